@@ -1,0 +1,63 @@
+"""Input checking shared by the public functions.
+
+One rule for the whole package: bad input raises ``ValueError`` naming the argument and the valid
+range; nothing returns NaN or a complex number silently.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["as_array", "check_range", "check_positive", "check_fractions", "broadcast"]
+
+
+def as_array(name: str, value) -> np.ndarray:
+    """Return ``value`` as a float64 array (a copy is never needed: inputs are never mutated)."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a real number or an array of real numbers") from exc
+    if np.iscomplexobj(value):
+        raise ValueError(f"{name} must be real, got a complex value")
+    if np.isnan(arr).any():
+        raise ValueError(f"{name} contains NaN")
+    return arr
+
+
+def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
+                low_open: bool = False, high_open: bool = False) -> np.ndarray:
+    """Raise ``ValueError`` unless every element lies in the interval ``low .. high``."""
+    bad_low = arr <= low if low_open else arr < low
+    bad_high = arr >= high if high_open else arr > high
+    if np.any(bad_low | bad_high):
+        lo = "(" if low_open else "["
+        hi = ")" if high_open else "]"
+        worst = arr[bad_low | bad_high].flat[0]
+        raise ValueError(f"{name} must lie in {lo}{low:g}, {high:g}{hi}; got {worst:g}")
+    return arr
+
+
+def check_positive(name: str, arr: np.ndarray, *, allow_zero: bool = False) -> np.ndarray:
+    """Raise ``ValueError`` unless ``arr > 0`` (or ``>= 0`` with ``allow_zero``) and finite."""
+    return check_range(name, arr, 0.0, np.inf, low_open=not allow_zero, high_open=True)
+
+
+def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> np.ndarray:
+    """Check volume fractions along the last axis: each in [0, 1] and summing to 1."""
+    if fractions.ndim == 0:
+        raise ValueError(f"{name} must have the phases on its last axis")
+    check_range(name, fractions, 0.0, 1.0)
+    total = fractions.sum(axis=-1)
+    if np.any(np.abs(total - 1.0) > atol):
+        worst = total.flat[np.argmax(np.abs(total - 1.0))]
+        raise ValueError(f"{name} must sum to 1 along the last axis (phases); got a sum of {worst:g}")
+    return fractions
+
+
+def broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
+    """Broadcast arrays together, naming them if their shapes do not match."""
+    try:
+        return list(np.broadcast_arrays(*arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
+        raise ValueError(f"shapes do not broadcast together: {shapes}") from None

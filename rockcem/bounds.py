@@ -1,0 +1,184 @@
+"""Voigt, Reuss, Hill and Hashin–Shtrikman bounds and averages for any number of phases.
+
+All functions take the phase moduli ``K`` and ``G`` (GPa) and the volume ``fractions`` with the
+phases on the **last axis**; leading axes broadcast (one row per depth, say). Fractions must lie in
+[0, 1] and sum to 1 along the last axis. A phase with zero shear modulus (a fluid) is valid input.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ._validation import as_array, broadcast, check_fractions, check_positive
+from .elastic import Moduli
+
+__all__ = ["Bounds", "voigt", "reuss", "hill", "hashin_shtrikman", "hashin_shtrikman_average"]
+
+
+class Bounds(NamedTuple):
+    """Lower and upper bounds of the bulk and shear moduli, GPa."""
+
+    K_lower: np.ndarray
+    G_lower: np.ndarray
+    K_upper: np.ndarray
+    G_upper: np.ndarray
+
+    @property
+    def lower(self) -> Moduli:
+        """The lower bound as ``Moduli``."""
+        return Moduli(self.K_lower, self.G_lower)
+
+    @property
+    def upper(self) -> Moduli:
+        """The upper bound as ``Moduli``."""
+        return Moduli(self.K_upper, self.G_upper)
+
+    @property
+    def average(self) -> Moduli:
+        """The arithmetic mean of the bounds (eq. C.3 of [Carcione2022]_ for HS)."""
+        return Moduli(0.5 * (self.K_lower + self.K_upper), 0.5 * (self.G_lower + self.G_upper))
+
+
+def _phases(K, G, fractions):
+    K = check_positive("K", as_array("K", K), allow_zero=True)
+    G = check_positive("G", as_array("G", G), allow_zero=True)
+    f = check_fractions("fractions", as_array("fractions", fractions))
+    K, G, f = broadcast(K=K, G=G, fractions=f)
+    return K, G, f
+
+
+def _harmonic(values, f, shift=0.0):
+    r"""Return :math:`[\sum_i f_i / (v_i + s)]^{-1} - s` along the last axis.
+
+    A phase with ``v_i + s = 0`` and ``f_i > 0`` makes the sum infinite and the result ``-s``
+    (the exact limit); phases with ``f_i = 0`` never contribute, even when ``v_i + s = 0``.
+    """
+    shift = np.asarray(shift, dtype=float)
+    denom = values + shift[..., None]
+    present = f > 0.0
+    zero = present & (denom <= 0.0)
+    safe = np.where(present & ~zero, denom, 1.0)
+    total = np.sum(np.where(present & ~zero, f / safe, 0.0), axis=-1)
+    any_zero = np.any(zero, axis=-1)
+    with np.errstate(divide="ignore"):
+        inv = np.where(any_zero | (total <= 0.0), 0.0, 1.0 / np.where(total > 0.0, total, 1.0))
+    return inv - shift
+
+
+def voigt(K, G, fractions) -> Moduli:
+    r"""Voigt (iso-strain) upper bound, :math:`M_V = \sum_i f_i M_i`.
+
+    Parameters
+    ----------
+    K, G : array_like, shape (..., n)
+        Bulk and shear moduli of the phases, GPa (``>= 0``).
+    fractions : array_like, shape (..., n)
+        Volume fractions of the phases, in [0, 1], summing to 1 along the last axis.
+
+    Returns
+    -------
+    Moduli
+        Arrays of shape ``(...)``, GPa.
+
+    Examples
+    --------
+    >>> round(float(voigt([40.0, 2.2], [39.0, 0.0], [0.7, 0.3]).K), 2)
+    28.66
+    """
+    K, G, f = _phases(K, G, fractions)
+    return Moduli(np.sum(f * K, axis=-1), np.sum(f * G, axis=-1))
+
+
+def reuss(K, G, fractions) -> Moduli:
+    r"""Reuss (iso-stress) lower bound, :math:`1/M_R = \sum_i f_i / M_i`.
+
+    Same parameters as :func:`voigt`. A phase with zero modulus and nonzero fraction gives zero.
+
+    Examples
+    --------
+    >>> float(reuss([40.0, 2.2], [39.0, 0.0], [0.7, 0.3]).G)
+    0.0
+    """
+    K, G, f = _phases(K, G, fractions)
+    zero = np.zeros(K.shape[:-1])
+    return Moduli(_harmonic(K, f, zero), _harmonic(G, f, zero))
+
+
+def hill(K, G, fractions) -> Moduli:
+    r"""Voigt–Reuss–Hill average, :math:`M_H = (M_V + M_R)/2` (eq. 19 of [Carcione2022]_).
+
+    Same parameters as :func:`voigt`.
+    """
+    v = voigt(K, G, fractions)
+    r = reuss(K, G, fractions)
+    return Moduli(0.5 * (v.K + r.K), 0.5 * (v.G + r.G))
+
+
+def _zeta(K, G):
+    r""":math:`\zeta(K, G) = \frac{G}{6}\frac{9K + 8G}{K + 2G}` (zero for a fluid, ``G = 0``)."""
+    denom = K + 2.0 * G
+    return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
+
+
+def hashin_shtrikman(K, G, fractions) -> Bounds:
+    r"""Hashin–Shtrikman(–Walpole) bounds for ``n`` isotropic phases.
+
+    The two-phase form is eqs. C.1–C.2 of [Carcione2022]_ ([HashinShtrikman1963]_); for ``n`` phases
+    Berryman's form ([Mavko2009]_, Sect. 4.1) is used:
+
+    .. math::
+
+        K^{\pm} = \Lambda(G_{\max/\min}), \qquad
+        \Lambda(z) = \Big[\sum_i \frac{f_i}{K_i + \tfrac43 z}\Big]^{-1} - \tfrac43 z,
+
+        G^{\pm} = \Gamma\big(\zeta(K_{\max/\min}, G_{\max/\min})\big), \qquad
+        \Gamma(z) = \Big[\sum_i \frac{f_i}{G_i + z}\Big]^{-1} - z,
+
+    with :math:`\zeta(K, G) = \frac{G}{6}\frac{9K+8G}{K+2G}`. The extreme moduli are taken over the
+    phases present (nonzero fraction). When the stiffest bulk and shear moduli belong to different
+    phases this is Walpole's (1966) generalisation, still a rigorous bound. With a fluid phase
+    (``G = 0``) the lower bounds reduce to Reuss's ``K`` and to ``G = 0``.
+
+    Parameters
+    ----------
+    K, G : array_like, shape (..., n)
+        Bulk and shear moduli of the phases, GPa (``>= 0``).
+    fractions : array_like, shape (..., n)
+        Volume fractions, in [0, 1], summing to 1 along the last axis.
+
+    Returns
+    -------
+    Bounds
+        ``K_lower, G_lower, K_upper, G_upper``, each of shape ``(...)``; ``.average`` gives eq. C.3.
+
+    Examples
+    --------
+    Quartz and cement of [Carcione2022]_, Table 1, in a 70:30 mixture:
+
+    >>> b = hashin_shtrikman([40.0, 35.0], [39.0, 30.0], [0.7, 0.3])
+    >>> round(float(b.K_lower), 4), round(float(b.K_upper), 4)
+    (38.4314, 38.4407)
+    """
+    K, G, f = _phases(K, G, fractions)
+    present = f > 0.0
+    K_max = np.max(np.where(present, K, -np.inf), axis=-1)
+    K_min = np.min(np.where(present, K, np.inf), axis=-1)
+    G_max = np.max(np.where(present, G, -np.inf), axis=-1)
+    G_min = np.min(np.where(present, G, np.inf), axis=-1)
+    K_up = _harmonic(K, f, 4.0 / 3.0 * G_max)
+    K_lo = _harmonic(K, f, 4.0 / 3.0 * G_min)
+    G_up = _harmonic(G, f, _zeta(K_max, G_max))
+    G_lo = _harmonic(G, f, _zeta(K_min, G_min))
+    return Bounds(K_lo, G_lo, K_up, G_up)
+
+
+def hashin_shtrikman_average(K, G, fractions) -> Moduli:
+    r"""Mean of the Hashin–Shtrikman bounds, eq. C.3 of [Carcione2022]_.
+
+    .. math:: K_s = \tfrac12 (K^+_{HS} + K^-_{HS}), \qquad \mu_s = \tfrac12 (\mu^+_{HS} + \mu^-_{HS})
+
+    Same parameters as :func:`hashin_shtrikman`; returns ``Moduli`` of shape ``(...)``.
+    """
+    return hashin_shtrikman(K, G, fractions).average

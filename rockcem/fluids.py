@@ -1,0 +1,221 @@
+"""Fluid substitution: Gassmann's equation, the generalized multi-mineral Gassmann modulus, inverses.
+
+Moduli in GPa, porosity and fractions as fractions. The shear modulus is unaffected by the fluid
+in all of these (it is returned by no function here: ``G_sat = G_dry``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validation import as_array, broadcast, check_fractions, check_positive, check_range
+
+__all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]
+
+
+def _check_common(K_min, K_fluid, phi, *, phi_open_low=False):
+    K_min = check_positive("K_min", as_array("K_min", K_min))
+    K_fluid = check_positive("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
+    phi = check_range("phi", as_array("phi", phi), 0.0, 1.0, low_open=phi_open_low)
+    return K_min, K_fluid, phi
+
+
+def gassmann(K_dry, K_min, K_fluid, phi):
+    r"""Saturated bulk modulus by Gassmann's equation, eqs. 4–6 of [Carcione2022]_.
+
+    .. math::
+
+        K_G = K_m + \alpha^2 M, \qquad
+        M = \Big(\frac{\alpha - \phi}{K_s} + \frac{\phi}{K_f}\Big)^{-1}, \qquad
+        \alpha = 1 - \frac{K_m}{K_s}
+
+    evaluated as :math:`M = K_s K_f / [(\alpha-\phi) K_f + \phi K_s]` so that an empty pore
+    (``K_fluid = 0``) gives ``K_dry`` exactly and ``phi = 0`` gives ``K_min`` ([Gassmann1951]_).
+
+    Parameters
+    ----------
+    K_dry : float or array_like
+        Dry-frame bulk modulus :math:`K_m`, GPa, in [0, ``K_min``].
+    K_min : float or array_like
+        Mineral (solid) bulk modulus :math:`K_s`, GPa, ``> 0``.
+    K_fluid : float or array_like
+        Pore-fluid bulk modulus :math:`K_f`, GPa, ``>= 0``.
+    phi : float or array_like
+        Porosity, in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        Saturated bulk modulus, GPa, in [``K_dry``, ``K_min``] for ``K_fluid <= K_min``.
+
+    Examples
+    --------
+    >>> round(float(gassmann(10.0, 40.0, 2.2, 0.2)), 4)
+    15.3746
+    """
+    K_min, K_fluid, phi = _check_common(K_min, K_fluid, phi)
+    K_dry = check_positive("K_dry", as_array("K_dry", K_dry), allow_zero=True)
+    K_dry, K_min, K_fluid, phi = broadcast(K_dry=K_dry, K_min=K_min, K_fluid=K_fluid, phi=phi)
+    if np.any(K_dry > K_min * (1.0 + 1e-12)):
+        raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its mineral)")
+    alpha = 1.0 - K_dry / K_min
+    denom = (alpha - phi) * K_fluid + phi * K_min
+    ok = denom > 0.0
+    M = np.where(ok, K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
+    # Where denom = 0 (K_f = 0 and phi = 0, or phi = 0 and K_dry = K_min) there is nothing to add.
+    return K_dry + alpha * alpha * M
+
+
+def gassmann_dry(K_sat, K_min, K_fluid, phi):
+    r"""Dry-frame bulk modulus from the saturated one: Gassmann's equation inverted.
+
+    .. math::
+
+        K_m = \frac{K_G\,(\phi K_s + (1-\phi) K_f) - K_s K_f}
+                   {\phi K_s + K_f (K_G/K_s - 1 - \phi)}
+
+    ([Mavko2009]_, Sect. 6.3), the exact inverse of :func:`gassmann`.
+
+    Parameters
+    ----------
+    K_sat : float or array_like
+        Saturated bulk modulus, GPa, in (0, ``K_min``].
+    K_min, K_fluid : float or array_like
+        Mineral and fluid bulk moduli, GPa.
+    phi : float or array_like
+        Porosity, in (0, 1]. At zero porosity every frame saturates to ``K_min``, so the inverse
+        is undefined there.
+
+    Returns
+    -------
+    ndarray
+        Dry-frame bulk modulus, GPa.
+
+    Raises
+    ------
+    ValueError
+        If ``K_sat`` is softer than any dry frame allows (the implied ``K_dry`` would be negative).
+
+    Examples
+    --------
+    >>> round(float(gassmann_dry(gassmann(10.0, 40.0, 2.2, 0.2), 40.0, 2.2, 0.2)), 12)
+    10.0
+    """
+    K_min, K_fluid, phi = _check_common(K_min, K_fluid, phi, phi_open_low=True)
+    K_sat = check_positive("K_sat", as_array("K_sat", K_sat))
+    K_sat, K_min, K_fluid, phi = broadcast(K_sat=K_sat, K_min=K_min, K_fluid=K_fluid, phi=phi)
+    if np.any(K_sat > K_min * (1.0 + 1e-12)):
+        raise ValueError("K_sat must not exceed K_min")
+    num = K_sat * (phi * K_min + (1.0 - phi) * K_fluid) - K_min * K_fluid
+    den = phi * K_min + K_fluid * (K_sat / K_min - 1.0 - phi)
+    if np.any(den <= 0.0) or np.any(num < -1e-12 * K_min * np.maximum(K_fluid, 1.0)):
+        raise ValueError(
+            "K_sat is below the fluid-saturated suspension (Reuss) value for this K_fluid and phi; "
+            "no non-negative dry modulus reproduces it")
+    return np.maximum(num / den, 0.0)
+
+
+def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi):
+    K_i = check_positive("K_solid", as_array("K_solid", K_solid))
+    beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
+    K_fluid = check_positive("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
+    phi = check_range("phi", as_array("phi", phi), 0.0, 1.0, high_open=True)
+    K_i, beta = broadcast(K_solid=K_i, solid_fractions=beta)
+    return K_i, beta, K_fluid, phi
+
+
+def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
+    r"""Generalized Gassmann modulus of a multi-mineral porous rock, eqs. 10–12 of [Carcione2022]_.
+
+    .. math::
+
+        K_G = \sum_i K_{mi} + \Big(\sum_i \alpha_i\Big)^2 M, \qquad
+        M = \Big(\sum_i \frac{\phi'_i}{K_i} + \frac{\phi}{K_f}\Big)^{-1},
+
+        \phi'_i = \alpha_i - \beta_i\phi, \qquad \alpha_i = \beta_i - \frac{K_{mi}}{K_i}
+
+    ([Carcione2005]_). Eq. 10 as printed in [Carcione2022]_ raises the sum of the
+    :math:`\alpha_i` to the power ``n`` (the number of solids); the derivation of [Carcione2005]_
+    gives the square, which the printed form equals for the ``n = 2`` of that paper. The square is
+    used here, so that one solid recovers :func:`gassmann` for any ``n``.
+
+    Parameters
+    ----------
+    K_frame : array_like, shape (..., n)
+        Frame moduli :math:`K_{mi}` of the solids (e.g. from
+        :func:`rockcem.frames.krief_multimineral`), GPa, ``>= 0``.
+    K_solid : array_like, shape (..., n)
+        Bulk moduli :math:`K_i` of the solids, GPa, ``> 0``.
+    solid_fractions : array_like, shape (..., n)
+        :math:`\beta_i`, fraction of each solid per unit volume of solid (sum to 1).
+    K_fluid : float or array_like, shape (...)
+        Fluid bulk modulus, GPa, ``>= 0``.
+    phi : float or array_like, shape (...)
+        Porosity, in [0, 1).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Saturated bulk modulus, GPa.
+    """
+    K_i, beta, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi)
+    K_mi = check_positive("K_frame", as_array("K_frame", K_frame), allow_zero=True)
+    K_mi, K_i, beta = broadcast(K_frame=K_mi, K_solid=K_i, solid_fractions=beta)
+    alpha_i = beta - K_mi / K_i
+    alpha = np.sum(alpha_i, axis=-1)
+    compliance = np.sum((alpha_i - beta * phi[..., None]) / K_i, axis=-1)
+    # M = 1/(compliance + phi/K_f) = K_f / (K_f compliance + phi), finite for K_f = 0.
+    denom = K_fluid * compliance + phi
+    ok = denom > 0.0
+    M = np.where(ok, K_fluid / np.where(ok, denom, 1.0), 0.0)
+    K_m = np.sum(K_mi, axis=-1)
+    # denom = 0 only when phi = 0 and sum(alpha_i/K_i) = 0, i.e. the frame is the mineral.
+    return K_m + alpha * alpha * M
+
+
+def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
+    r"""Invert :func:`generalized_gassmann` for the total frame modulus :math:`K_m = \sum K_{mi}`.
+
+    The partition of the frame among the solids is that of eq. 13 of [Carcione2022]_,
+    :math:`K_{mi} = w_i K_m` with :math:`w_i = \beta_i K_i / \sum_j \beta_j K_j`. Then
+    eq. 10 becomes :math:`(K_G - K_m)(a - b K_m) = (1 - K_m/V_K)^2` with
+    :math:`a = (1-\phi)\sum_i \beta_i/K_i + \phi/K_f`, :math:`b = \sum_i \beta_i/(V_K K_i)`,
+    :math:`V_K = \sum_i \beta_i K_i`: a quadratic in :math:`K_m` whose root in
+    :math:`[0, K_G]` is returned. For one solid it is the inverse of Gassmann's equation.
+
+    Parameters
+    ----------
+    K_sat : float or array_like, shape (...)
+        Saturated bulk modulus, GPa, ``> 0``.
+    K_solid, solid_fractions : array_like, shape (..., n)
+        As in :func:`generalized_gassmann`.
+    K_fluid : float or array_like, shape (...)
+        Fluid bulk modulus, GPa, ``> 0``.
+    phi : float or array_like, shape (...)
+        Porosity, in (0, 1).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Total frame bulk modulus :math:`K_m`, GPa. Multiply by :math:`w_i` for the per-solid values.
+    """
+    K_i, beta, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi)
+    check_positive("K_fluid", K_fluid)
+    check_range("phi", phi, 0.0, 1.0, low_open=True, high_open=True)
+    K_sat = check_positive("K_sat", as_array("K_sat", K_sat))
+    V_K = np.sum(beta * K_i, axis=-1)
+    a = (1.0 - phi) * np.sum(beta / K_i, axis=-1) + phi / K_fluid
+    b = np.sum(beta / K_i, axis=-1) / V_K
+    K_sat, a, b, V_K = broadcast(K_sat=K_sat, a=a, b=b, V_K=V_K)
+    q2 = b - 1.0 / V_K**2          # >= 0 by Cauchy–Schwarz; 0 for one solid
+    q1 = -(K_sat * b + a) + 2.0 / V_K
+    q0 = K_sat * a - 1.0
+    # Stable root of q2 x^2 + q1 x + q0 = 0 on the branch continuous with the linear (q2 = 0) case.
+    disc = q1 * q1 - 4.0 * q2 * q0
+    if np.any(disc < 0.0):
+        raise ValueError("K_sat admits no real frame modulus for these solids, fluid and porosity")
+    root = 2.0 * q0 / (-q1 + np.sqrt(disc))
+    if np.any(root < -1e-12 * V_K) or np.any(root > K_sat * (1.0 + 1e-12)):
+        raise ValueError(
+            "K_sat is outside the range a dry frame in [0, K_sat] can produce for these inputs")
+    return np.clip(root, 0.0, K_sat)

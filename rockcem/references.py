@@ -1,0 +1,84 @@
+"""The literature the project implements, cited in docstrings by these keys.
+
+Docstrings write "eq. B.1 of [Carcione2022]_"; the full references are defined once here and
+written into every dataset's ``references`` attribute by the scene runner.
+"""
+
+from __future__ import annotations
+
+__all__ = ["REFERENCES", "cite"]
+
+REFERENCES: dict[str, str] = {
+    "Carcione2022": (
+        "Carcione, J. M., Gei, D., Picotti, S., Qadrouh, A. N., Alajmi, M., and Ba, J., 2022. "
+        "Rock acoustics of diagenesis and cementation. Pure and Applied Geophysics."
+    ),
+    "Carcione2005": (
+        "Carcione, J. M., Helle, H. B., Santos, J. E., and Ravazzoli, C. L., 2005. A constitutive "
+        "equation and generalized Gassmann modulus for multimineral porous media. Geophysics 70, N17-N26."
+    ),
+    "Berryman1980": (
+        "Berryman, J. G., 1980. Long-wavelength propagation in composite elastic media II. "
+        "Ellipsoidal inclusions. J. Acoust. Soc. Am. 68, 1820-1831."
+    ),
+    "Mavko2009": (
+        "Mavko, G., Mukerji, T., and Dvorkin, J., 2009. The Rock Physics Handbook, 2nd ed. "
+        "Cambridge University Press."
+    ),
+    "DvorkinNur1996": (
+        "Dvorkin, J., and Nur, A., 1996. Elasticity of high-porosity sandstones: theory for two "
+        "North Sea data sets. Geophysics 61, 1363-1370."
+    ),
+    "Dvorkin1994": (
+        "Dvorkin, J., Nur, A., and Yin, H., 1994. Effective properties of cemented granular "
+        "material. Mechanics of Materials 18, 351-366."
+    ),
+    "HanGuo": (
+        "Han, X., and Guo, J. Influence of contact thickness on the acoustic velocities of loose "
+        "sandstone and its application. SEG Technical Program Expanded Abstracts."
+    ),
+    "Xu2023": (
+        "Xu, X., 2023. DEM validation of contact-bonding and distant-bonding cement in weakly "
+        "cemented sandstones. ACS Omega. doi:10.1021/acsomega.3c03802."
+    ),
+    "Avseth2016": (
+        "Avseth, P., Skjei, N., and Mavko, G., 2016. Rock-physics modeling of stress sensitivity "
+        "and 4D time shifts in patchy cemented sandstones. The Leading Edge 35, 868-878."
+    ),
+    "Avseth2000": (
+        "Avseth, P., Dvorkin, J., Mavko, G., and Rykje, J., 2000. Rock physics diagnostic of North "
+        "Sea sands: link between microstructure and seismic properties. GRL 27, 2761-2764."
+    ),
+    "Krief1990": (
+        "Krief, M., Garat, J., Stellingwerff, J., and Ventre, J., 1990. A petrophysical "
+        "interpretation using the velocities of P and S waves. The Log Analyst 31, 355-369."
+    ),
+    "Gassmann1951": (
+        "Gassmann, F., 1951. Über die Elastizität poröser Medien. Vierteljahrsschrift der "
+        "Naturforschenden Gesellschaft in Zürich 96, 1-23."
+    ),
+    "HashinShtrikman1963": (
+        "Hashin, Z., and Shtrikman, S., 1963. A variational approach to the theory of the elastic "
+        "behaviour of multiphase materials. J. Mech. Phys. Solids 11, 127-140."
+    ),
+    "GarciaMedina2007": (
+        "García, X., and Medina, E., 2007. Acoustic response of cemented granular sedimentary "
+        "rocks: molecular dynamics modeling. Physical Review E 75, 061308."
+    ),
+    "Walton1987": (
+        "Walton, K., 1987. The effective elastic moduli of a random packing of spheres. "
+        "J. Mech. Phys. Solids 35, 213-226."
+    ),
+    "GangiCarlson1996": (
+        "Gangi, A. F., and Carlson, R. L., 1996. An asperity-deformation model for effective "
+        "pressure. Tectonophysics 256, 241-251."
+    ),
+}
+
+
+def cite(*keys: str) -> str:
+    """Return the full references for ``keys``, one per line."""
+    unknown = [k for k in keys if k not in REFERENCES]
+    if unknown:
+        raise ValueError(f"unknown reference key(s) {unknown}; known: {sorted(REFERENCES)}")
+    return "\n".join(f"[{k}] {REFERENCES[k]}" for k in keys)
