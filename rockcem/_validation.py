@@ -61,3 +61,8 @@ def broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
     except ValueError:
         shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
         raise ValueError(f"shapes do not broadcast together: {shapes}") from None
+
+
+def stack_phases(*arrays) -> np.ndarray:
+    """Broadcast ``arrays`` together and stack them as phases on a new last axis."""
+    return np.stack(np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in arrays]), axis=-1)

@@ -1,0 +1,1 @@
+"""burial: burial paths, quartz cementation, compaction and clay diagenesis (in development)."""

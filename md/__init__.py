@@ -1,0 +1,1 @@
+"""md: a compact molecular-dynamics engine for cemented grain packs (in development)."""

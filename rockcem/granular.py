@@ -1,0 +1,497 @@
+r"""Granular-medium (contact) models: Hertz–Mindlin, soft and stiff sand, contact cement
+(CCT and its contact-thickness extension MCCT), constant, increasing and patchy cement.
+
+Units: moduli GPa, pressure MPa (converted to GPa through :data:`rockcem.constants.GPA_PER_MPA`
+where it meets a modulus), porosity and fractions as fractions, ``n`` the coordination number
+(average contacts per grain). Subscript 0 is the grain mineral, c the cement.
+
+Validity (one rule for the package): inputs outside a model's range raise ``ValueError``; nothing
+returns NaN. The porosity range of each model is stated in its docstring.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validation import as_array, broadcast, check_positive, check_range, stack_phases
+from .bounds import _harmonic
+from .constants import GPA_PER_MPA
+from .elastic import Moduli
+
+__all__ = [
+    "hertz_mindlin",
+    "soft_sand",
+    "stiff_sand",
+    "cement_radius",
+    "contact_cement",
+    "constant_cement",
+    "increasing_cement",
+    "patchy_cement",
+]
+
+
+# ----------------------------------------------------------------------------- input checks
+def _mineral(name, K, G, *, shear_zero=False):
+    K = check_positive(f"K{name}", as_array(f"K{name}", K))
+    G = check_positive(f"G{name}", as_array(f"G{name}", G), allow_zero=shear_zero)
+    nu = (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
+    check_range(f"Poisson ratio of (K{name}, G{name})", nu, -1.0, 0.5, low_open=True,
+                high_open=not shear_zero)
+    return K, G, nu
+
+
+def _porosity(phi, phic, name_phic="phic"):
+    phic = check_range(name_phic, as_array(name_phic, phic), 0.0, 1.0, low_open=True,
+                       high_open=True)
+    phi = check_range("phi", as_array("phi", phi), 0.0, 1.0)
+    if np.any(np.broadcast_to(phi, np.broadcast_shapes(phi.shape, phic.shape))
+              > np.broadcast_to(phic, np.broadcast_shapes(phi.shape, phic.shape)) * (1 + 1e-12)):
+        raise ValueError(f"phi must lie in [0, {name_phic}] for this model")
+    return phi, phic
+
+
+def _zeta(K, G):
+    denom = K + 2.0 * G
+    return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
+
+
+def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
+    r"""Modified Hashin–Shtrikman interpolation between end members a and b.
+
+    .. math::
+
+        K = \Big[\frac{x}{K_a + \tfrac43 G_r} + \frac{1-x}{K_b + \tfrac43 G_r}\Big]^{-1}
+            - \tfrac43 G_r, \qquad
+        G = \Big[\frac{x}{G_a + z} + \frac{1-x}{G_b + z}\Big]^{-1} - z,
+        \quad z = \zeta(K_r, G_r)
+
+    with ``x = frac_a``; the reference (r) is the softer end member for the "soft" (lower-bound)
+    form and the stiffer one for the "stiff" (upper-bound) form ([Mavko2009]_ Sect. 7.9).
+    """
+    K_a, G_a, K_b, G_b, x, K_ref, G_ref = broadcast(K_a=K_a, G_a=G_a, K_b=K_b, G_b=G_b,
+                                                     frac_a=frac_a, K_ref=K_ref, G_ref=G_ref)
+    fr = np.stack([x, 1.0 - x], axis=-1)
+    K = _harmonic(np.stack([K_a, K_b], axis=-1), fr, 4.0 / 3.0 * G_ref)
+    G = _harmonic(np.stack([G_a, G_b], axis=-1), fr, _zeta(K_ref, G_ref))
+    return Moduli(K, G)
+
+
+# ----------------------------------------------------------------------------- Hertz–Mindlin
+def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
+    r"""Hertz–Mindlin moduli of a dense random pack of identical spheres at critical porosity.
+
+    Eqs. D.1–D.2 of [Carcione2022]_ ([Mavko2009]_ Sect. 5.4, [Walton1987]_), with the effective
+    pressure augmented by the bonding pre-stress :math:`\delta` of [GangiCarlson1996]_ and the
+    shear-reduction (slip) factor ``f`` of [Mavko2009]_:
+
+    .. math::
+
+        K_{HM} = \Big[\frac{n^2 (1-\phi_c)^2 \mu_0^2\, p}{18\pi^2 (1-\nu_0)^2}\Big]^{1/3},
+        \qquad
+        \mu_{HM} = \frac{2 + 3f - \nu_0(1 + 3f)}{5(2-\nu_0)}
+                   \Big[\frac{3 n^2 (1-\phi_c)^2 \mu_0^2\, p}{2\pi^2 (1-\nu_0)^2}\Big]^{1/3},
+
+    with :math:`p = (p_e + \delta)` converted from MPa to GPa. For ``f = 1`` (no slip)
+    :math:`\mu_{HM} = \frac{3(5-4\nu_0)}{5(2-\nu_0)}K_{HM}` (eq. D.2); ``f = 0`` is frictionless.
+
+    Parameters
+    ----------
+    K0, G0 : float or array_like
+        Grain bulk and shear moduli, GPa (``> 0``).
+    phic : float or array_like
+        Critical porosity of the pack, in (0, 1).
+    n : float or array_like
+        Coordination number, ``> 0`` (about 9 for a dense random pack).
+    pressure : float or array_like
+        Effective pressure :math:`p_e`, MPa, ``>= 0``.
+    f : float or array_like, optional
+        Fraction of grain contacts with no slip, in [0, 1]; default 1.
+    delta : float or array_like, optional
+        Bonding pre-stress :math:`\delta`, MPa, ``>= 0``; default 0 (classical Hertz–Mindlin).
+
+    Returns
+    -------
+    Moduli
+        Dry-pack ``K`` and ``G`` at ``phic``, GPa.
+
+    Examples
+    --------
+    >>> m = hertz_mindlin(36.6, 45.0, 0.4, 8.6, 20.0)
+    >>> round(float(m.K), 4), round(float(m.G), 4)
+    (1.9063, 2.8028)
+    """
+    K0, G0, nu = _mineral("0", K0, G0)
+    phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
+    n = check_positive("n", as_array("n", n))
+    pressure = check_positive("pressure", as_array("pressure", pressure), allow_zero=True)
+    f = check_range("f", as_array("f", f), 0.0, 1.0)
+    delta = check_positive("delta", as_array("delta", delta), allow_zero=True)
+    p = (pressure + delta) * GPA_PER_MPA
+    common = (n * (1.0 - phic) * G0) ** 2 * p / (np.pi**2 * (1.0 - nu) ** 2)
+    K = np.cbrt(common / 18.0)
+    G = (2.0 + 3.0 * f - nu * (1.0 + 3.0 * f)) / (5.0 * (2.0 - nu)) * np.cbrt(1.5 * common)
+    K, G = broadcast(K=K, G=G)
+    return Moduli(K, G)
+
+
+def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
+    r"""Soft-sand (friable, unconsolidated) model: modified HS lower bound.
+
+    Connects the Hertz–Mindlin point at :math:`\phi_c` to the mineral at zero porosity
+    ([Mavko2009]_ Sect. 7.9; [rockphypy]):
+
+    .. math::
+
+        K = \Big[\frac{\phi/\phi_c}{K_{HM} + \tfrac43 \mu_{HM}}
+                 + \frac{1-\phi/\phi_c}{K_0 + \tfrac43 \mu_{HM}}\Big]^{-1} - \tfrac43 \mu_{HM},
+        \qquad
+        \mu = \Big[\frac{\phi/\phi_c}{\mu_{HM} + z} + \frac{1-\phi/\phi_c}{\mu_0 + z}\Big]^{-1} - z,
+
+    :math:`z = \zeta(K_{HM}, \mu_{HM})`. Valid for :math:`0 \le \phi \le \phi_c`.
+
+    Parameters
+    ----------
+    K0, G0 : float or array_like
+        Grain moduli, GPa.
+    phi : float or array_like
+        Porosity, in [0, ``phic``].
+    phic, n, pressure, f, delta
+        As in :func:`hertz_mindlin`.
+
+    Returns
+    -------
+    Moduli
+        Dry-rock ``K``, ``G``, GPa.
+    """
+    hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
+    phi, phic = _porosity(phi, phic)
+    K0 = as_array("K0", K0)
+    G0 = as_array("G0", G0)
+    return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, hm.K, hm.G)
+
+
+def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
+    r"""Stiff-sand model: modified HS upper bound between Hertz–Mindlin and the mineral.
+
+    Same end members as :func:`soft_sand`, joined with the mineral as the reference
+    ([Mavko2009]_ Sect. 7.9):
+
+    .. math::
+
+        K = \Big[\frac{\phi/\phi_c}{K_{HM} + \tfrac43 \mu_0}
+                 + \frac{1-\phi/\phi_c}{K_0 + \tfrac43 \mu_0}\Big]^{-1} - \tfrac43 \mu_0,
+        \qquad z = \zeta(K_0, \mu_0).
+
+    Parameters and returns as in :func:`soft_sand`; valid for :math:`0 \le \phi \le \phi_c`.
+    """
+    hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
+    phi, phic = _porosity(phi, phic)
+    K0 = as_array("K0", K0)
+    G0 = as_array("G0", G0)
+    return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, K0, G0)
+
+
+# ----------------------------------------------------------------------------- contact cement
+def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
+    r"""Normalised radius :math:`\alpha = a/R` of the cement at a grain contact.
+
+    Scheme 1 (cement at the contacts), eq. 7 of [HanGuo]_ (eq. A-9 of [Xu2023]_), for a contact
+    of normalised thickness :math:`\varepsilon = h/R`:
+
+    .. math::
+
+        \alpha = \sqrt{-2\varepsilon + 2\sqrt{\varepsilon^2 + \frac{4}{3n}
+                 \frac{\phi_c-\phi}{1-\phi_c}}}
+               = \sqrt{\frac{2y}{\varepsilon + \sqrt{\varepsilon^2 + y}}},
+        \qquad y = \frac{4}{3n}\frac{\phi_c-\phi}{1-\phi_c},
+
+    evaluated in the second (cancellation-free) form. At :math:`\varepsilon = 0` it is exactly
+    eq. 16 of [Carcione2022]_, :math:`\alpha = 2[(\phi_c-\phi)/(3n(1-\phi_c))]^{1/4}`, the factor
+    2 of [DvorkinNur1996]_.
+
+    Scheme 2 (cement coating the grains), eq. 18 of [Carcione2022]_ and eq. 10 of [HanGuo]_:
+
+    .. math:: \alpha = \sqrt{\frac{2(\phi_c-\phi)}{3(1-\phi_c)}},
+
+    independent of :math:`\varepsilon` and of ``n``. [Xu2023]_ (eq. A-6) prints an extra
+    :math:`1/n` under the root; [DvorkinNur1996]_, [Mavko2009]_ and [HanGuo]_ have none, and
+    the geometry (a shell of thickness :math:`\alpha^2 R/2` on every grain) has none, so it is
+    left out here.
+
+    Parameters
+    ----------
+    phi : float or array_like
+        Porosity after cementation, in [0, ``phic``]; :math:`\phi_c - \phi` is the cement volume.
+    phic : float or array_like
+        Critical (uncemented) porosity, in (0, 1).
+    n : float or array_like
+        Coordination number, ``> 0``.
+    scheme : {1, 2}
+        Cement at the contacts (1) or coating the grains (2).
+    thickness : float or array_like
+        Normalised contact thickness :math:`\varepsilon = h/R`, ``>= 0``.
+
+    Returns
+    -------
+    ndarray
+        :math:`\alpha`, dimensionless, ``>= 0``.
+    """
+    phi, phic = _porosity(phi, phic)
+    n = check_positive("n", as_array("n", n))
+    eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
+    if scheme not in (1, 2):
+        raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
+    x = (phic - phi) / (1.0 - phic)
+    if scheme == 2:
+        alpha = np.sqrt(2.0 * x / 3.0)
+        alpha, _, _ = broadcast(alpha=alpha, n=n, thickness=eps)
+        return alpha
+    y = 4.0 * x / (3.0 * n)
+    root = eps + np.sqrt(eps * eps + y)
+    return np.sqrt(np.where(root > 0.0, 2.0 * y / np.where(root > 0.0, root, 1.0), 0.0))
+
+
+#: Range of the stiffness parameters Lambda_n, Lambda_tau over which the polynomial fits of
+#: Dvorkin & Nur (1996) are used; outside it they extrapolate to unphysical values.
+LAMBDA_RANGE = (1e-3, 1e3)
+
+
+def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
+    r"""Dvorkin's normalised contact stiffnesses :math:`\hat S_n, \hat S_\tau` (fits).
+
+    Coefficients of the Rock Physics Handbook ([Mavko2009]_ Sect. 7.9, [DvorkinNur1996]_):
+    :math:`C_n` exponent -1.9864, :math:`B_n` exponent -0.89008, :math:`A_\tau` exponent
+    :math:`0.079\nu^2+0.1754\nu-1.342`, :math:`C_\tau` exponent
+    :math:`0.01867\nu^2+0.4011\nu-1.8186` and :math:`C_\tau > 0`. [Xu2023]_ (eq. A-8) prints
+    -1.9846, -0.8908 and a negative :math:`C_\tau`; those are transcription variants of the same fit.
+    """
+    An = -0.024153 * Lambda_n**-1.3646
+    Bn = 0.20405 * Lambda_n**-0.89008
+    Cn = 0.00024649 * Lambda_n**-1.9864
+    nu2 = nu0 * nu0
+    At = -1e-2 * (2.26 * nu2 + 2.07 * nu0 + 2.3) * Lambda_t ** (0.079 * nu2 + 0.1754 * nu0 - 1.342)
+    Bt = (0.0573 * nu2 + 0.0937 * nu0 + 0.202) * Lambda_t ** (0.0274 * nu2 + 0.0529 * nu0 - 0.8765)
+    Ct = 1e-4 * (9.654 * nu2 + 4.945 * nu0 + 3.1) * Lambda_t ** (0.01867 * nu2 + 0.4011 * nu0 - 1.8186)
+    Sn = An * alpha**2 + Bn * alpha + Cn
+    St = At * alpha**2 + Bt * alpha + Ct
+    return Sn, St
+
+
+def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0) -> Moduli:
+    r"""Contact cement theory (CCT) of Dvorkin & Nur, with the contact thickness of Han & Guo.
+
+    Eq. 15 of [Carcione2022]_ ([Dvorkin1994]_, [DvorkinNur1996]_, [Mavko2009]_ Sect. 7.9):
+
+    .. math::
+
+        K = \tfrac16 n (1-\phi_c) M_c \hat S_n, \qquad
+        \mu = \tfrac35 K + \tfrac{3}{20} n (1-\phi_c) \mu_c \hat S_\tau, \qquad
+        M_c = K_c + \tfrac43 \mu_c,
+
+        \hat S_n = A_n\alpha^2 + B_n\alpha + C_n, \qquad
+        \hat S_\tau = A_\tau\alpha^2 + B_\tau\alpha + C_\tau,
+
+        \Lambda_n = \frac{2\mu_c}{\pi\mu_0}\frac{(1-\nu_0)(1-\nu_c)}{1-2\nu_c}, \qquad
+        \Lambda_\tau = \frac{\mu_c}{\pi\mu_0},
+
+    with the coefficient set of the Rock Physics Handbook (see ``_cct_stiffness``) and
+    :math:`\alpha` from :func:`cement_radius`. :math:`\Lambda_n` is evaluated as
+    :math:`2(1-\nu_0)(1-\nu_c)(3K_c+\mu_c)/(3\pi\mu_0)`, the same quantity without the division
+    by :math:`1-2\nu_c`.
+
+    ``thickness`` :math:`\varepsilon = h/R > 0` is the modified CCT (MCCT) of [HanGuo]_ for
+    grains that do not touch: the cement radius follows their eq. 7 (eq. A-9 of [Xu2023]_), so
+    at ``thickness = 0`` this is exactly CCT.
+
+    The fits hold for small cement amounts (:math:`\alpha` up to about 0.5, a few per cent of
+    cement) and no pressure dependence; at zero cement they give the small stiffness of the
+    :math:`C` terms, *below* the Hertz–Mindlin moduli of the uncemented pack at any pressure
+    (use :func:`patchy_cement` to join the two).
+
+    Parameters
+    ----------
+    K0, G0 : float or array_like
+        Grain moduli, GPa (``> 0``).
+    Kc, Gc : float or array_like
+        Cement moduli, GPa (``> 0``).
+    phi : float or array_like
+        Porosity, in [0, ``phic``].
+    phic : float or array_like
+        Critical porosity, in (0, 1).
+    n : float or array_like
+        Coordination number, ``> 0``.
+    scheme : {1, 2}
+        1: cement at grain contacts; 2: cement coating the grains.
+    thickness : float or array_like
+        Normalised contact thickness :math:`\varepsilon`, ``>= 0``.
+
+    Returns
+    -------
+    Moduli
+        Dry-rock ``K`` and ``G``, GPa.
+
+    Raises
+    ------
+    ValueError
+        For inputs out of range, or stiffness ratios :math:`\Lambda_n, \Lambda_\tau` outside
+        :data:`LAMBDA_RANGE` where the fits do not hold.
+
+    Examples
+    --------
+    The example parameter set of the rockphypy documentation (quartz grains and cement):
+
+    >>> m = contact_cement(36.6, 45.0, 36.6, 45.0, 0.3, 0.4, 8.6, scheme=2)
+    >>> round(float(m.K), 3), round(float(m.G), 3)
+    (8.05, 11.058)
+    """
+    K0, G0, nu0 = _mineral("0", K0, G0)
+    Kc, Gc, nuc = _mineral("c", Kc, Gc)
+    alpha = cement_radius(phi, phic, n, scheme, thickness)
+    phic = as_array("phic", phic)
+    n = as_array("n", n)
+    Lambda_n = 2.0 * (1.0 - nu0) * (1.0 - nuc) * (3.0 * Kc + Gc) / (3.0 * np.pi * G0)
+    Lambda_t = Gc / (np.pi * G0)
+    lo, hi = LAMBDA_RANGE
+    for name, lam in (("Lambda_n", Lambda_n), ("Lambda_tau", Lambda_t)):
+        check_range(f"{name} (cement/grain stiffness ratio of the CCT fit)", lam, lo, hi)
+    Sn, St = _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0)
+    Mc = Kc + 4.0 / 3.0 * Gc
+    K = n * (1.0 - phic) * Mc * Sn / 6.0
+    G = 0.6 * K + 0.15 * n * (1.0 - phic) * Gc * St
+    K, G = broadcast(K=K, G=G)
+    return Moduli(K, G)
+
+
+def constant_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0) -> Moduli:
+    r"""Constant-cement model of [Avseth2000]_: contact cement at :math:`\phi_b`, then sorting.
+
+    All sands carry the cement of the contact-cement model at porosity :math:`\phi_b`
+    (:math:`K_b, \mu_b` from :func:`contact_cement`); lower porosity comes from pore-filling
+    non-contact material, interpolated to the mineral with the modified HS lower bound
+    ([Mavko2009]_ Sect. 7.9):
+
+    .. math::
+
+        K = \Big[\frac{\phi/\phi_b}{K_b + \tfrac43 \mu_b}
+                 + \frac{1-\phi/\phi_b}{K_0 + \tfrac43 \mu_b}\Big]^{-1} - \tfrac43 \mu_b,
+        \qquad
+        \mu = \Big[\frac{\phi/\phi_b}{\mu_b + z} + \frac{1-\phi/\phi_b}{\mu_0 + z}\Big]^{-1} - z,
+        \quad z = \zeta(K_b, \mu_b).
+
+    Parameters
+    ----------
+    K0, G0, Kc, Gc, phic, n, scheme, thickness
+        As in :func:`contact_cement`.
+    phi : float or array_like
+        Porosity, in [0, ``phib``].
+    phib : float or array_like
+        Porosity at which the cement is fixed, in (0, ``phic``].
+
+    Returns
+    -------
+    Moduli
+        Dry-rock ``K``, ``G``, GPa.
+    """
+    phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
+    _porosity(phib, phic)
+    phi, phib = _porosity(phi, phib, "phib")
+    b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
+    return _hs_interpolate(b.K, b.G, as_array("K0", K0), as_array("G0", G0), phi / phib, b.K, b.G)
+
+
+def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0) -> Moduli:
+    r"""Increasing-cement model: modified HS upper bound from contact cement to the mineral.
+
+    The contact-cement model holds for the first few per cent of cement, down to porosity
+    :math:`\phi_b`; below it, cement fills the pores and the moduli follow the modified upper
+    Hashin–Shtrikman bound between :math:`(K_b, \mu_b)` at :math:`\phi_b` and the mineral
+    ([Mavko2009]_ Sect. 7.9; [Avseth2000]_):
+
+    .. math::
+
+        K = \Big[\frac{\phi/\phi_b}{K_b + \tfrac43 \mu_0}
+                 + \frac{1-\phi/\phi_b}{K_0 + \tfrac43 \mu_0}\Big]^{-1} - \tfrac43 \mu_0,
+        \qquad z = \zeta(K_0, \mu_0).
+
+    Parameters and returns as in :func:`constant_cement`; valid for :math:`0 \le \phi \le \phi_b`.
+    """
+    phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
+    _porosity(phib, phic)
+    phi, phib = _porosity(phi, phib, "phib")
+    b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
+    K0 = as_array("K0", K0)
+    G0 = as_array("G0", G0)
+    return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, K0, G0)
+
+
+def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
+                  contact_cement_limit=0.05, scheme=1, thickness=0.0, f=1.0, delta=0.0) -> Moduli:
+    r"""Patchy-cement model in the form of Model 4 of [Carcione2022]_ (after [Avseth2016]_).
+
+    1. The cement bonded at grain contacts is capped, eq. 17:
+       :math:`\bar\phi_p = \min(\phi_p, \phi_{p0})`; the rest fills pores.
+    2. Cemented patches: contact cement theory (eq. 15, :func:`contact_cement`) with the cement
+       radius of eq. 16 (``scheme=1``) or 18 (``scheme=2``) for :math:`\bar\phi_p`, optionally
+       with contact thickness.
+    3. Uncemented patches: Hertz–Mindlin (eqs. D.1–D.2) at the augmented pressure
+       :math:`p_e + \delta`.
+    4. The high-porosity end member :math:`(K_b, \mu_b)` mixes the two with the HS upper bound,
+       cemented fraction :math:`f = \phi_p/\phi_c` (clipped to [0, 1]).
+    5. The zero-porosity end member :math:`(K_s, \mu_s)` is the self-consistent mixture of grain
+       and cement spheres in proportions :math:`1-\phi_c` and :math:`\phi_c`.
+    6. Voigt–Reuss–Hill interpolation in :math:`\phi/\phi_c` between them, eqs. 19–21.
+
+    At zero cement this is the Hill interpolation of Hertz–Mindlin and the mineral; cement only
+    stiffens it (the HS upper mix is at least as stiff as its stiffer member's share), so zero
+    cement never falls below the uncemented limit.
+
+    Parameters
+    ----------
+    K0, G0, Kc, Gc : float or array_like
+        Grain and cement moduli, GPa.
+    phi : float or array_like
+        Porosity, in [0, ``phic``].
+    phic : float or array_like
+        Critical porosity :math:`\phi_0`, in (0, 1) (0.36 in [Carcione2022]_).
+    n : float or array_like
+        Coordination number (9 in [Carcione2022]_).
+    pressure : float or array_like
+        Effective pressure, MPa, ``>= 0``.
+    cement_fraction : float or array_like
+        Total cement volume fraction :math:`\phi_p`, in [0, ``phic``].
+    contact_cement_limit : float, optional
+        :math:`\phi_{p0}`, the most cement that sits at contacts, in (0, ``phic``]; default 0.05.
+    scheme : {1, 2}
+        Contact (eq. 16) or coating (eq. 18) cement radius.
+    thickness : float or array_like
+        Normalised contact thickness of the MCCT, ``>= 0``; default 0.
+    f, delta
+        Slip factor and bonding pre-stress (MPa) of :func:`hertz_mindlin`.
+
+    Returns
+    -------
+    Moduli
+        Dry-rock ``K``, ``G``, GPa.
+    """
+    from .bounds import hashin_shtrikman, hill
+    from .inclusions import self_consistent
+
+    phi, phic_arr = _porosity(phi, phic)
+    phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
+    if np.any(phip > phic_arr * (1 + 1e-12)):
+        raise ValueError("cement_fraction must lie in [0, phic]")
+    limit = check_range("contact_cement_limit", as_array("contact_cement_limit",
+                                                          contact_cement_limit), 0.0, 1.0,
+                        low_open=True)
+    bonded = np.minimum(phip, limit)
+    cct = contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, thickness)
+    hm = hertz_mindlin(K0, G0, phic_arr, n, pressure, f, delta)
+    frac = np.clip(phip / phic_arr, 0.0, 1.0)
+    end_b = hashin_shtrikman(stack_phases(cct.K, hm.K), stack_phases(cct.G, hm.G),
+                             stack_phases(frac, 1.0 - frac)).upper
+    end_s = self_consistent(stack_phases(K0, Kc), stack_phases(G0, Gc),
+                            stack_phases(1.0 - phic_arr, phic_arr))
+    x = phi / phic_arr
+    K, G, w = (stack_phases(end_s.K, end_b.K), stack_phases(end_s.G, end_b.G),
+               stack_phases(1.0 - x, x))
+    return hill(K, G, w)

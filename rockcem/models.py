@@ -1,0 +1,281 @@
+"""The four petro-elastic models of Carcione et al. (2022), as compositions of the building blocks.
+
+Each model takes the rock state as arrays that broadcast together — porosity, the fractions of
+the solids (per unit volume of *solid*, phases on the last axis), and for Model 4 the cement
+fraction and effective pressure — plus the materials, and returns a :class:`RockProperties`.
+Units: GPa, g/cm³, km/s, MPa, fractions.
+
+========================  ======================================  =============================
+label                     model                                   eqs. of [Carcione2022]_
+========================  ======================================  =============================
+``hs_gassmann``           1: HS mineral + Krief frame + Gassmann  3–7, C.1–C.3
+``self_consistent``       2: self-consistent, spheroidal pores    8–9
+``generalized_gassmann``  3: multi-mineral Krief + generalized    10–14
+                          Gassmann
+``patchy_cement``         4: patchy cement (CCT + Hertz–Mindlin,  15–21, D.1–D.2, 4–6
+                          HS upper, SC, Hill) + Gassmann
+========================  ======================================  =============================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from ._validation import as_array, broadcast, check_fractions, check_range, stack_phases
+from .bounds import hashin_shtrikman_average
+from .elastic import velocities
+from .fluids import gassmann, generalized_gassmann
+from .frames import krief, krief_multimineral
+from .granular import patchy_cement
+from .inclusions import self_consistent
+from .materials import Fluid, Mineral
+
+__all__ = [
+    "RockProperties",
+    "hs_gassmann",
+    "self_consistent_model",
+    "generalized_gassmann_model",
+    "patchy_cement_model",
+    "MODELS",
+    "bulk_density",
+]
+
+
+class RockProperties(NamedTuple):
+    """Elastic properties of a rock: moduli GPa, density g/cm³, velocities km/s."""
+
+    K_dry: np.ndarray
+    G_dry: np.ndarray
+    K_sat: np.ndarray
+    G_sat: np.ndarray
+    density: np.ndarray
+    vp: np.ndarray
+    vs: np.ndarray
+
+
+def _solids(minerals: Sequence[Mineral], solid_fractions, porosity):
+    if len(minerals) == 0 or not all(isinstance(m, Mineral) for m in minerals):
+        raise ValueError("minerals must be a non-empty sequence of rockcem.materials.Mineral")
+    beta = as_array("solid_fractions", solid_fractions)
+    if beta.ndim == 0 or beta.shape[-1] != len(minerals):
+        raise ValueError(f"solid_fractions must have {len(minerals)} phases on its last axis "
+                         f"(one per mineral); got shape {beta.shape}")
+    check_fractions("solid_fractions", beta)
+    phi = check_range("porosity", as_array("porosity", porosity), 0.0, 1.0, high_open=True)
+    K = np.array([m.K for m in minerals])
+    G = np.array([m.G for m in minerals])
+    rho = np.array([m.rho for m in minerals])
+    beta, phi_b = broadcast(solid_fractions=beta, porosity=phi[..., None])
+    return K, G, rho, beta, phi_b[..., 0]
+
+
+def _fluid(fluid) -> Fluid:
+    if not isinstance(fluid, Fluid):
+        raise ValueError("fluid must be a rockcem.materials.Fluid")
+    return fluid
+
+
+def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
+    r"""Bulk density, eq. 24 of [Carcione2022]_.
+
+    .. math:: \rho = (1-\phi)\sum_i \beta_i \rho_i + \phi \rho_f
+
+    Parameters
+    ----------
+    mineral_density : array_like, shape (n,) or (..., n)
+        Densities of the solids, g/cm³.
+    solid_fractions : array_like, shape (..., n)
+        :math:`\beta_i`, fractions per unit volume of solid (sum to 1).
+    porosity : array_like, shape (...)
+        Porosity, in [0, 1].
+    fluid_density : float or array_like
+        Pore-fluid density, g/cm³.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Bulk density, g/cm³.
+    """
+    beta = np.asarray(solid_fractions, dtype=float)
+    phi = np.asarray(porosity, dtype=float)
+    return (1.0 - phi) * np.sum(beta * np.asarray(mineral_density, dtype=float), axis=-1) \
+        + phi * np.asarray(fluid_density, dtype=float)
+
+
+def _finish(K_dry, G_dry, K_sat, G_sat, density) -> RockProperties:
+    v = velocities(K_sat, G_sat, density)
+    K_dry, G_dry, K_sat, G_sat, density = broadcast(K_dry=K_dry, G_dry=G_dry, K_sat=K_sat,
+                                                    G_sat=G_sat, density=density)
+    return RockProperties(K_dry, G_dry, K_sat, G_sat, density, v.vp, v.vs)
+
+
+def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockProperties:
+    r"""Model 1 of [Carcione2022]_: Hashin–Shtrikman mineral, Krief frame, Gassmann fluid.
+
+    The minerals are mixed with the HS average (eqs. C.1–C.3) into :math:`K_s, \mu_s`; Krief's
+    law (eq. 3) gives the dry frame; Gassmann's equation (eqs. 4–6) saturates it; density by
+    eq. 24 and velocities by eqs. 22–25. Porosity typically comes from Athy's law (eq. 7) or IGV
+    compaction; this function takes it as given.
+
+    Parameters
+    ----------
+    minerals : sequence of Mineral
+        The ``n`` solids (e.g. smectite and illite; quartz grain and cement).
+    solid_fractions : array_like, shape (..., n)
+        Fraction of each solid per unit volume of solid, summing to 1.
+    porosity : array_like, shape (...)
+        Porosity, in [0, 1).
+    fluid : Fluid
+        Pore fluid.
+    A : float, optional
+        Krief exponent; default 3 (as in [Carcione2022]_).
+
+    Returns
+    -------
+    RockProperties
+        Broadcast over the rock-state arrays.
+    """
+    K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
+    fluid = _fluid(fluid)
+    mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
+                                       np.broadcast_to(G, beta.shape), beta)
+    dry = krief(mineral.K, mineral.G, phi, A)
+    K_sat = gassmann(dry.K, mineral.K, fluid.K, phi)
+    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, fluid.rho))
+
+
+def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_ratio,
+                          tol=1e-12) -> RockProperties:
+    r"""Model 2 of [Carcione2022]_: Berryman's self-consistent scheme, eqs. 8–9.
+
+    The solids are spheres and the pores spheroids of the given aspect ratio, in volume
+    proportions :math:`(1-\phi)\beta_i` and :math:`\phi`. With the pore fluid in the pores the
+    result is the (high-frequency, unrelaxed) saturated rock; the dry moduli are the same
+    scheme with empty pores.
+
+    Parameters
+    ----------
+    minerals, solid_fractions, porosity, fluid
+        As in :func:`hs_gassmann`.
+    aspect_ratio : float or array_like, shape (...)
+        Pore aspect ratio :math:`\gamma`, ``> 0`` (0.17 for the shale and 0.108 for the
+        sandstone of [Carcione2022]_; 1 for spherical pores).
+    tol : float, optional
+        Tolerance of the Newton solver of :func:`rockcem.inclusions.self_consistent`.
+
+    Returns
+    -------
+    RockProperties
+    """
+    K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
+    fluid = _fluid(fluid)
+    gamma = as_array("aspect_ratio", aspect_ratio)
+    frac = np.concatenate([(1.0 - phi)[..., None] * beta, phi[..., None]], axis=-1)
+    shape = frac.shape
+
+    def solve(K_pore, G_pore):
+        Kp = np.broadcast_to(np.append(K, K_pore), shape)
+        Gp = np.broadcast_to(np.append(G, G_pore), shape)
+        aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
+        return self_consistent(Kp, Gp, frac, aspect, tol=tol)
+
+    sat = solve(fluid.K, 0.0)
+    dry = solve(0.0, 0.0) if fluid.K > 0.0 else sat
+    return _finish(dry.K, dry.G, sat.K, sat.G, bulk_density(rho, beta, phi, fluid.rho))
+
+
+def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
+                               A=3.0) -> RockProperties:
+    r"""Model 3 of [Carcione2022]_: multi-mineral Krief frame and generalized Gassmann.
+
+    Frame moduli of each solid by eqs. 13–14 (:func:`rockcem.frames.krief_multimineral`), the
+    saturated bulk modulus by eqs. 10–12 (:func:`rockcem.fluids.generalized_gassmann`), and
+    :math:`\mu = \sum_i \mu_{mi}`.
+
+    Parameters and returns as in :func:`hs_gassmann`.
+    """
+    K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
+    fluid = _fluid(fluid)
+    K_i = np.broadcast_to(K, beta.shape)
+    frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
+    K_sat = generalized_gassmann(frames.K, K_i, beta, fluid.K, phi)
+    G_dry = np.sum(frames.G, axis=-1)
+    return _finish(np.sum(frames.K, axis=-1), G_dry, K_sat, G_dry,
+                   bulk_density(rho, beta, phi, fluid.rho))
+
+
+def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, fluid, *,
+                        critical_porosity=0.36, coordination_number=9.0,
+                        contact_cement_limit=0.05, delta=100.0, scheme=1, thickness=0.0,
+                        f=1.0) -> RockProperties:
+    r"""Model 4 of [Carcione2022]_: patchy cement dry rock (eqs. 15–21, D.1–D.2) and Gassmann.
+
+    The dry frame is :func:`rockcem.granular.patchy_cement`. The mineral modulus in Gassmann's
+    equation is the HS average of grain and cement in their solid proportions
+    :math:`(1-\phi-\phi_p)/(1-\phi)` and :math:`\phi_p/(1-\phi)`, as for Models 1 and 3
+    (the paper does not say which mineral modulus it uses there).
+
+    Parameters
+    ----------
+    grain, cement : Mineral
+        Grain and cement materials.
+    porosity : array_like
+        Porosity :math:`\phi`, in [0, ``critical_porosity``].
+    cement_fraction : array_like
+        Cement volume fraction :math:`\phi_p`, in [0, ``critical_porosity``], with
+        :math:`\phi + \phi_p \le 1`.
+    pressure : array_like
+        Effective pressure, MPa, ``>= 0``.
+    fluid : Fluid
+        Pore fluid.
+    critical_porosity : float, optional
+        :math:`\phi_0`; default 0.36.
+    coordination_number : float, optional
+        :math:`C`; default 9.
+    contact_cement_limit : float, optional
+        :math:`\phi_{p0}`; default 0.05.
+    delta : float, optional
+        Bonding pre-stress, MPa; default 100 (40 is the alternative of Fig. 17).
+    scheme : {1, 2}
+        Cement at contacts (eq. 16) or coating the grains (eq. 18).
+    thickness : float, optional
+        MCCT contact thickness :math:`\varepsilon`; default 0 (CCT).
+    f : float, optional
+        Hertz–Mindlin no-slip fraction; default 1.
+
+    Returns
+    -------
+    RockProperties
+    """
+    if not isinstance(grain, Mineral) or not isinstance(cement, Mineral):
+        raise ValueError("grain and cement must be rockcem.materials.Mineral")
+    fluid = _fluid(fluid)
+    phi = check_range("porosity", as_array("porosity", porosity), 0.0, 1.0, high_open=True)
+    phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
+    phi, phip = broadcast(porosity=phi, cement_fraction=phip)
+    if np.any(phi + phip > 1.0 + 1e-12):
+        raise ValueError("porosity + cement_fraction must not exceed 1")
+    dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, critical_porosity,
+                        coordination_number, pressure, phip, contact_cement_limit, scheme,
+                        thickness, f, delta)
+    beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
+    beta = stack_phases(1.0 - beta_c, beta_c)
+    K = np.array([grain.K, cement.K])
+    G = np.array([grain.G, cement.G])
+    mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
+                                       np.broadcast_to(G, beta.shape), beta)
+    K_sat = gassmann(dry.K, mineral.K, fluid.K, phi)
+    rho = bulk_density([grain.rho, cement.rho], beta, phi, fluid.rho)
+    return _finish(dry.K, dry.G, K_sat, dry.G, rho)
+
+
+#: The petro-elastic models by their label in datasets (coordinate ``model``).
+MODELS = {
+    "hs_gassmann": hs_gassmann,
+    "self_consistent": self_consistent_model,
+    "generalized_gassmann": generalized_gassmann_model,
+    "patchy_cement": patchy_cement_model,
+}
