@@ -13,12 +13,12 @@ __all__ = ["as_array", "check_range", "check_positive", "check_fractions", "broa
 
 def as_array(name: str, value) -> np.ndarray:
     """Return ``value`` as a float64 array (a copy is never needed: inputs are never mutated)."""
+    if np.iscomplexobj(value):
+        raise ValueError(f"{name} must be real, got a complex value")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a real number or an array of real numbers") from exc
-    if np.iscomplexobj(value):
-        raise ValueError(f"{name} must be real, got a complex value")
     if np.isnan(arr).any():
         raise ValueError(f"{name} contains NaN")
     return arr
