@@ -60,10 +60,12 @@ def _harmonic(values, f, shift=0.0):
     present = f > 0.0
     zero = present & (denom <= 0.0)
     safe = np.where(present & ~zero, denom, 1.0)
-    total = np.sum(np.where(present & ~zero, f / safe, 0.0), axis=-1)
-    any_zero = np.any(zero, axis=-1)
-    with np.errstate(divide="ignore"):
-        inv = np.where(any_zero | (total <= 0.0), 0.0, 1.0 / np.where(total > 0.0, total, 1.0))
+    # Subnormal denominators overflow f/denom to inf; the limit (a zero modulus) is then exact.
+    with np.errstate(over="ignore", divide="ignore"):
+        total = np.sum(np.where(present & ~zero, f / safe, 0.0), axis=-1)
+        any_zero = np.any(zero, axis=-1)
+        inv = np.where(any_zero | ~np.isfinite(total) | (total <= 0.0), 0.0,
+                       1.0 / np.where(np.isfinite(total) & (total > 0.0), total, 1.0))
     return inv - shift
 
 

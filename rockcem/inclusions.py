@@ -71,32 +71,41 @@ def _theta_f(aspect):
     return theta, f
 
 
-def _pq(K_m, G_m, K_i, G_i, theta, f, sphere):
-    """P and Q without input checks; all arrays broadcast; ``G_m > 0``."""
-    # Spheres: eq. 9 of [Carcione2022]_.
+def _pq_sphere(K_m, G_m, K_i, G_i):
+    """P, Q of spheres, eq. 9 of [Carcione2022]_ (``G_m > 0``)."""
     zeta = G_m / 6.0 * (9.0 * K_m + 8.0 * G_m) / (K_m + 2.0 * G_m)
-    P_sph = (K_m + 4.0 / 3.0 * G_m) / (K_i + 4.0 / 3.0 * G_m)
-    Q_sph = (G_m + zeta) / (G_i + zeta)
-    # Spheroids: Berryman (1980), Appendix; Mavko et al. (2009) p. 189.
+    return (K_m + 4.0 / 3.0 * G_m) / (K_i + 4.0 / 3.0 * G_m), (G_m + zeta) / (G_i + zeta)
+
+
+def _pq_spheroid(K_m, G_m, K_i, G_i, theta, f):
+    """P, Q of spheroids: Berryman (1980), Appendix; Mavko et al. (2009) p. 189."""
     R = 3.0 * G_m / (3.0 * K_m + 4.0 * G_m)
     A = G_i / G_m - 1.0
     B = (K_i / K_m - G_i / G_m) / 3.0
-    F1 = 1.0 + A * (1.5 * (f + theta) - R * (1.5 * f + 2.5 * theta - 4.0 / 3.0))
-    F2 = (1.0 + A * (1.0 + 1.5 * (f + theta) - 0.5 * R * (3.0 * f + 5.0 * theta))
-          + B * (3.0 - 4.0 * R)
-          + 0.5 * A * (A + 3.0 * B) * (3.0 - 4.0 * R) * (f + theta - R * (f - theta + 2.0 * theta**2)))
-    F3 = 1.0 + A * (1.0 - (f + 1.5 * theta) + R * (f + theta))
+    c = 3.0 - 4.0 * R
+    ft = f + theta
+    F1 = 1.0 + A * (1.5 * ft - R * (1.5 * f + 2.5 * theta - 4.0 / 3.0))
+    F2 = (1.0 + A * (1.0 + 1.5 * ft - 0.5 * R * (3.0 * f + 5.0 * theta)) + B * c
+          + 0.5 * A * (A + 3.0 * B) * c * (ft - R * (f - theta + 2.0 * theta**2)))
+    F3 = 1.0 + A * (1.0 - (f + 1.5 * theta) + R * ft)
     F4 = 1.0 + 0.25 * A * (f + 3.0 * theta - R * (f - theta))
-    F5 = A * (-f + R * (f + theta - 4.0 / 3.0)) + B * theta * (3.0 - 4.0 * R)
-    F6 = 1.0 + A * (1.0 + f - R * (f + theta)) + B * (1.0 - theta) * (3.0 - 4.0 * R)
-    F7 = 2.0 + 0.25 * A * (3.0 * f + 9.0 * theta - R * (3.0 * f + 5.0 * theta)) + B * theta * (3.0 - 4.0 * R)
-    F8 = A * (1.0 - 2.0 * R + 0.5 * f * (R - 1.0) + 0.5 * theta * (5.0 * R - 3.0)) + B * (1.0 - theta) * (3.0 - 4.0 * R)
-    F9 = A * ((R - 1.0) * f - R * theta) + B * theta * (3.0 - 4.0 * R)
-    Tiijj = 3.0 * F1 / F2
-    Tijij_minus = 2.0 / F3 + 1.0 / F4 + (F4 * F5 + F6 * F7 - F8 * F9) / (F2 * F4)
-    P = Tiijj / 3.0
-    Q = Tijij_minus / 5.0
-    return np.where(sphere, P_sph, P), np.where(sphere, Q_sph, Q)
+    F5 = A * (-f + R * (ft - 4.0 / 3.0)) + B * theta * c
+    F6 = 1.0 + A * (1.0 + f - R * ft) + B * (1.0 - theta) * c
+    F7 = 2.0 + 0.25 * A * (3.0 * f + 9.0 * theta - R * (3.0 * f + 5.0 * theta)) + B * theta * c
+    F8 = A * (1.0 - 2.0 * R + 0.5 * f * (R - 1.0) + 0.5 * theta * (5.0 * R - 3.0)) + B * (1.0 - theta) * c
+    F9 = A * ((R - 1.0) * f - R * theta) + B * theta * c
+    P = F1 / F2                                   # T_iijj / 3, T_iijj = 3 F1 / F2
+    Q = (2.0 / F3 + 1.0 / F4 + (F4 * F5 + F6 * F7 - F8 * F9) / (F2 * F4)) / 5.0
+    return P, Q
+
+
+def _pq(K_m, G_m, K_i, G_i, theta, f, sphere):
+    """P and Q without input checks; all arrays broadcast; ``G_m > 0``."""
+    Ps, Qs = _pq_sphere(K_m, G_m, K_i, G_i)
+    if np.all(sphere):
+        return Ps, Qs
+    P, Q = _pq_spheroid(K_m, G_m, K_i, G_i, theta, f)
+    return np.where(sphere, Ps, P), np.where(sphere, Qs, Q)
 
 
 def berryman_pq(K_m, G_m, K_i, G_i, aspect_ratio=1.0):
@@ -149,11 +158,26 @@ def berryman_pq(K_m, G_m, K_i, G_i, aspect_ratio=1.0):
     return _pq(K_m, G_m, K_i, G_i, theta, f, a == 1.0)
 
 
-def _residual(K, G, K_i, G_i, frac, theta, f, sphere):
-    """Relative residuals of eq. 8 of [Carcione2022]_ (rows: points; last axis: phases)."""
-    P, Q = _pq(K[:, None], G[:, None], K_i, G_i, theta, f, sphere)
-    r1 = np.sum(frac * (K_i - K[:, None]) * P, axis=-1)
-    r2 = np.sum(frac * (G_i - G[:, None]) * Q, axis=-1)
+def _residual(K, G, K_i, G_i, frac, theta, f, sphere, columns):
+    """Residuals of eq. 8 of [Carcione2022]_ (rows: points; last axis: phases).
+
+    ``columns`` is ``(sphere_columns, spheroid_columns)`` when every row has the same phases
+    spherical, so each formula is evaluated only where it applies.
+    """
+    Km, Gm = K[:, None], G[:, None]
+    if columns is None:
+        P, Q = _pq(Km, Gm, K_i, G_i, theta, f, sphere)
+        return (np.sum(frac * (K_i - Km) * P, axis=-1), np.sum(frac * (G_i - Gm) * Q, axis=-1))
+    r1 = np.zeros(K.shape)
+    r2 = np.zeros(K.shape)
+    for cols, spheres in zip(columns, (True, False)):
+        if cols.size == 0:
+            continue
+        Ki, Gi, fr = K_i[:, cols], G_i[:, cols], frac[:, cols]
+        P, Q = (_pq_sphere(Km, Gm, Ki, Gi) if spheres
+                else _pq_spheroid(Km, Gm, Ki, Gi, theta[:, cols], f[:, cols]))
+        r1 += np.sum(fr * (Ki - Km) * P, axis=-1)
+        r2 += np.sum(fr * (Gi - Gm) * Q, axis=-1)
     return r1, r2
 
 
@@ -228,6 +252,9 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=60
     aa = a.reshape(-1, n)
     theta, f = _theta_f(aa)
     sphere = aa == 1.0
+    columns = None
+    if np.all(sphere == sphere[:1]):
+        columns = (np.flatnonzero(sphere[0]), np.flatnonzero(~sphere[0]))
 
     hs = hashin_shtrikman(K_i, G_i, fr)
     Kr = reuss(K_i, G_i, fr).K
@@ -246,7 +273,7 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=60
         if act.size == 0:
             break
         k, g = Ke[act], Ge[act]
-        args = (K_i[act], G_i[act], fr[act], theta[act], f[act], sphere[act])
+        args = (K_i[act], G_i[act], fr[act], theta[act], f[act], sphere[act], columns)
         r1, r2 = _residual(k, g, *args)
         hk, hg = 1e-7 * k, 1e-7 * g
         r1k, r2k = _residual(k + hk, g, *args)
