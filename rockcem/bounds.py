@@ -66,7 +66,8 @@ def _harmonic(values, f, shift=0.0):
         any_zero = np.any(zero, axis=-1)
         inv = np.where(any_zero | ~np.isfinite(total) | (total <= 0.0), 0.0,
                        1.0 / np.where(np.isfinite(total) & (total > 0.0), total, 1.0))
-    return inv - shift
+    # Clip the cancellation in inv - shift (a bound that is exactly 0 may round to -1e-15).
+    return np.maximum(inv - shift, 0.0)
 
 
 def voigt(K, G, fractions) -> Moduli:

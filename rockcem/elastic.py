@@ -55,9 +55,21 @@ def poisson_ratio(K, G):
 
 
 def p_wave_modulus(K, G):
-    r"""P-wave modulus :math:`E = K + \tfrac43 G`, GPa (eq. 22 of [Carcione2022]_)."""
-    K = as_array("K", K)
-    G = as_array("G", G)
+    r"""P-wave modulus :math:`E = K + \tfrac43 G`, GPa (eq. 22 of [Carcione2022]_).
+
+    Parameters
+    ----------
+    K, G : float or array_like
+        Bulk and shear moduli, GPa, ``>= 0``.
+
+    Returns
+    -------
+    ndarray
+        P-wave modulus, GPa, broadcast over the inputs.
+    """
+    K = check_positive("K", as_array("K", K), allow_zero=True)
+    G = check_positive("G", as_array("G", G), allow_zero=True)
+    K, G = broadcast(K=K, G=G)
     return K + 4.0 / 3.0 * G
 
 

@@ -121,7 +121,16 @@ def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi):
     K_fluid = check_positive("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
     phi = check_range("phi", as_array("phi", phi), 0.0, 1.0, high_open=True)
     K_i, beta = broadcast(K_solid=K_i, solid_fractions=beta)
-    return K_i, beta, K_fluid, phi
+    lead = np.broadcast_shapes(K_i.shape[:-1])
+    try:
+        lead = np.broadcast_shapes(K_i.shape[:-1], K_fluid.shape, phi.shape)
+    except ValueError:
+        raise ValueError(f"shapes do not broadcast together: K_solid/solid_fractions (..., n) with "
+                         f"leading shape {K_i.shape[:-1]}, K_fluid {K_fluid.shape}, "
+                         f"phi {phi.shape}") from None
+    K_i = np.broadcast_to(K_i, lead + K_i.shape[-1:])
+    beta = np.broadcast_to(beta, lead + beta.shape[-1:])
+    return K_i, beta, np.broadcast_to(K_fluid, lead), np.broadcast_to(phi, lead)
 
 
 def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
@@ -160,7 +169,9 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     """
     K_i, beta, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi)
     K_mi = check_positive("K_frame", as_array("K_frame", K_frame), allow_zero=True)
-    K_mi, K_i, beta = broadcast(K_frame=K_mi, K_solid=K_i, solid_fractions=beta)
+    K_mi, K_i, beta, Kf, ph = broadcast(K_frame=K_mi, K_solid=K_i, solid_fractions=beta,
+                                        K_fluid=K_fluid[..., None], phi=phi[..., None])
+    K_fluid, phi = Kf[..., 0], ph[..., 0]
     alpha_i = beta - K_mi / K_i
     alpha = np.sum(alpha_i, axis=-1)
     compliance = np.sum((alpha_i - beta * phi[..., None]) / K_i, axis=-1)
@@ -203,6 +214,9 @@ def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     check_positive("K_fluid", K_fluid)
     check_range("phi", phi, 0.0, 1.0, low_open=True, high_open=True)
     K_sat = check_positive("K_sat", as_array("K_sat", K_sat))
+    if np.any(K_fluid >= np.min(K_i, axis=-1)):
+        raise ValueError("K_fluid must be below the bulk moduli of all solids for the inverse: a "
+                         "fluid as stiff as the solid hides the frame")
     V_K = np.sum(beta * K_i, axis=-1)
     a = (1.0 - phi) * np.sum(beta / K_i, axis=-1) + phi / K_fluid
     b = np.sum(beta / K_i, axis=-1) / V_K
