@@ -241,3 +241,32 @@ def test_patchy_cement_zero_cement_not_below_uncemented():
     more = patchy_cement(KQ, GQ, KC, GC, phi, 0.36, 9.0, 20.0, np.linspace(0, 0.06, 13), delta=40.0)
     assert np.all(np.diff(more.K) >= 0) and np.all(np.diff(more.G) >= 0)
     assert np.all(more.K >= float(zero.K))
+
+
+# --- property tests ------------------------------------------------------------------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=60, deadline=None)
+@given(Kg=st.floats(10, 80), Gg=st.floats(5, 60), Kc=st.floats(5, 80), Gc=st.floats(3, 60),
+       phic=st.floats(0.3, 0.45), n=st.floats(5, 14), scheme=st.sampled_from([1, 2]),
+       eps=st.sampled_from([0.0, 0.02]))
+def test_contact_cement_monotone_property(Kg, Gg, Kc, Gc, phic, n, scheme, eps):
+    """More cement (lower porosity at fixed critical porosity) never softens the rock."""
+    phi = np.linspace(phic, phic - 0.08, 9)
+    m = contact_cement(Kg, Gg, Kc, Gc, phi, phic, n, scheme, eps)
+    assert np.all(np.isfinite(m.K)) and np.all(np.diff(m.K) > 0) and np.all(np.diff(m.G) > 0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(phi=st.floats(0.0, 0.36), p=st.floats(0.0, 80.0), delta=st.floats(0.0, 150.0),
+       scheme=st.sampled_from([1, 2]))
+def test_patchy_cement_monotone_in_cement_property(phi, p, delta, scheme):
+    phip = np.linspace(0.0, 0.36, 10)
+    m = patchy_cement(KQ, GQ, KC, GC, phi, 0.36, 9.0, p, phip, scheme=scheme, delta=delta)
+    assert np.all(np.diff(m.K) >= -1e-12) and np.all(np.diff(m.G) >= -1e-12)
+    # The zero-porosity end member is the SC mix of grain and cement in proportions
+    # (1 - phic, phic) (Carcione et al. 2022, Sect. 4.4): never stiffer than its HS upper bound.
+    hs = hashin_shtrikman([KQ, KC], [GQ, GC], [0.64, 0.36])
+    assert np.all(m.K <= hs.K_upper * (1 + 1e-12)) and np.all(m.G >= 0)

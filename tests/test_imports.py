@@ -1,0 +1,27 @@
+"""What importing the package pulls in: `import rockcem` never imports numba (or xarray)."""
+
+import subprocess
+import sys
+
+import pytest
+
+
+@pytest.mark.parametrize("module", ["rockcem", "rockcem.models", "rockcem.calibrate"])
+def test_import_does_not_load_numba(module):
+    code = (f"import sys, {module}; "
+            "bad = [m for m in ('numba', 'xarray') if m in sys.modules]; "
+            "print(','.join(bad))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
+
+
+def test_cli_materials_lists_catalogue():
+    out = subprocess.run([sys.executable, "-m", "rockcem.cli", "materials"], capture_output=True,
+                         text=True, check=True)
+    assert "quartz" in out.stdout and "water" in out.stdout
+
+
+def test_cli_bad_command_exit_code_2():
+    out = subprocess.run([sys.executable, "-m", "rockcem.cli", "nonsense"], capture_output=True,
+                         text=True)
+    assert out.returncode == 2
