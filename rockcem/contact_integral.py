@@ -110,8 +110,10 @@ def cemented_contact_stiffness(alpha, Lambda, thickness=0.0, *, panels=64, chunk
         Normalised contact thickness :math:`\varepsilon \ge 0` (the cement is
         :math:`2\varepsilon R` thick on the axis).
     panels : int, optional
-        Number of collocation panels (the accuracy knob: second-order convergence, relative
-        error about :math:`3\times10^{-5}` at the default 64; see
+        Number of collocation panels (the accuracy knob: second-order convergence; at the
+        default 64 the relative error is at most :math:`1.1\times10^{-4}` (median
+        :math:`4\times10^{-5}`) over cement radii 0.05–0.5, :math:`\Lambda` 0.02–5 and
+        thickness 0–0.05, for about 0.1 ms per point; see
         ``benchmarks/contact_integral_error_vs_time.py``).
     chunk : int, optional
         Points solved together (bounds memory at ``chunk * panels**2`` floats).
