@@ -33,7 +33,7 @@ def athy_porosity(porosity0, effective_pressure, beta=0.01):
     Examples
     --------
     >>> round(float(athy_porosity(0.35, 50.0)), 6)
-    0.212284
+    0.212286
     """
     phi0 = check_range("porosity0", as_array("porosity0", porosity0), 0.0, 1.0, high_open=True)
     pe = check_positive("effective_pressure", as_array("effective_pressure", effective_pressure),
