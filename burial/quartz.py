@@ -60,7 +60,7 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
     Returns
     -------
     ndarray, shape of ``path.temperature`` broadcast with the parameters
-        :math:`\phi_p`, cm³ of cement per cm³ of rock, in :math:`[0, \phi_0)`.
+        :math:`\phi_p`, cm³ of cement per cm³ of rock, in :math:`[0, \phi_0]`.
 
     Examples
     --------
