@@ -254,7 +254,10 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     G_i = G.reshape(-1, n)
     fr = frac.reshape(-1, n)
     aa = a.reshape(-1, n)
-    theta, f = _theta_f(aa)
+    # Shape factors depend on the aspect ratio alone: evaluate them once per distinct value.
+    uniq, inverse = np.unique(aa, return_inverse=True)
+    th_u, f_u = _theta_f(uniq)
+    theta, f = th_u[inverse].reshape(aa.shape), f_u[inverse].reshape(aa.shape)
     sphere = aa == 1.0
     columns = None
     if np.all(sphere == sphere[:1]):
