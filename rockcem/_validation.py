@@ -66,3 +66,31 @@ def broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
 def stack_phases(*arrays) -> np.ndarray:
     """Broadcast ``arrays`` together and stack them as phases on a new last axis."""
     return np.stack(np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in arrays]), axis=-1)
+
+
+def sum_phases(a: np.ndarray) -> np.ndarray:
+    """Sum over the (short) phase axis, the last one.
+
+    A column-by-column loop: for a handful of phases numpy's reduction along a short last axis
+    costs a per-row overhead that is several times the arithmetic (see benchmarks/README.md).
+    """
+    out = a[..., 0].copy()
+    for i in range(1, a.shape[-1]):
+        out += a[..., i]
+    return out
+
+
+def max_phases(a: np.ndarray) -> np.ndarray:
+    """Maximum over the (short) last axis, column by column (see :func:`sum_phases`)."""
+    out = a[..., 0].copy()
+    for i in range(1, a.shape[-1]):
+        np.maximum(out, a[..., i], out=out)
+    return out
+
+
+def min_phases(a: np.ndarray) -> np.ndarray:
+    """Minimum over the (short) last axis, column by column (see :func:`sum_phases`)."""
+    out = a[..., 0].copy()
+    for i in range(1, a.shape[-1]):
+        np.minimum(out, a[..., i], out=out)
+    return out

@@ -11,10 +11,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_fractions, check_positive
+from ._validation import (as_array, broadcast, check_fractions, check_positive, max_phases,
+                          min_phases, sum_phases)
 from .elastic import Moduli
 
-__all__ = ["Bounds", "voigt", "reuss", "hill", "hashin_shtrikman", "hashin_shtrikman_average"]
+__all__ = ["Bounds", "voigt", "reuss", "hill", "hashin_shtrikman", "hashin_shtrikman_average",
+           "hashin_shtrikman_upper"]
 
 
 class Bounds(NamedTuple):
@@ -58,11 +60,17 @@ def _harmonic(values, f, shift=0.0):
     shift = np.asarray(shift, dtype=float)
     denom = values + shift[..., None]
     present = f > 0.0
+    if np.all(denom > 0.0):
+        # Common case (no zero modulus meets a zero shift): plain harmonic sum.
+        with np.errstate(over="ignore"):
+            total = sum_phases(f / denom)
+            inv = np.where(np.isfinite(total), 1.0 / total, 0.0)
+        return np.maximum(inv - shift, 0.0)
     zero = present & (denom <= 0.0)
     safe = np.where(present & ~zero, denom, 1.0)
     # Subnormal denominators overflow f/denom to inf; the limit (a zero modulus) is then exact.
     with np.errstate(over="ignore", divide="ignore"):
-        total = np.sum(np.where(present & ~zero, f / safe, 0.0), axis=-1)
+        total = sum_phases(np.where(present & ~zero, f / safe, 0.0))
         any_zero = np.any(zero, axis=-1)
         inv = np.where(any_zero | ~np.isfinite(total) | (total <= 0.0), 0.0,
                        1.0 / np.where(np.isfinite(total) & (total > 0.0), total, 1.0))
@@ -91,7 +99,7 @@ def voigt(K, G, fractions) -> Moduli:
     28.66
     """
     K, G, f = _phases(K, G, fractions)
-    return Moduli(np.sum(f * K, axis=-1), np.sum(f * G, axis=-1))
+    return Moduli(sum_phases(f * K), sum_phases(f * G))
 
 
 def reuss(K, G, fractions) -> Moduli:
@@ -165,16 +173,28 @@ def hashin_shtrikman(K, G, fractions) -> Bounds:
     (38.4314, 38.4407)
     """
     K, G, f = _phases(K, G, fractions)
+    return Bounds(*_hs_lower(K, G, f), *_hs_upper(K, G, f))
+
+
+def _hs_upper(K, G, f):
+    """Upper HS bound (K, G) of checked, broadcast phase arrays."""
     present = f > 0.0
-    K_max = np.max(np.where(present, K, -np.inf), axis=-1)
-    K_min = np.min(np.where(present, K, np.inf), axis=-1)
-    G_max = np.max(np.where(present, G, -np.inf), axis=-1)
-    G_min = np.min(np.where(present, G, np.inf), axis=-1)
-    K_up = _harmonic(K, f, 4.0 / 3.0 * G_max)
-    K_lo = _harmonic(K, f, 4.0 / 3.0 * G_min)
-    G_up = _harmonic(G, f, _zeta(K_max, G_max))
-    G_lo = _harmonic(G, f, _zeta(K_min, G_min))
-    return Bounds(K_lo, G_lo, K_up, G_up)
+    K_max = max_phases(np.where(present, K, -np.inf))
+    G_max = max_phases(np.where(present, G, -np.inf))
+    return _harmonic(K, f, 4.0 / 3.0 * G_max), _harmonic(G, f, _zeta(K_max, G_max))
+
+
+def _hs_lower(K, G, f):
+    """Lower HS bound (K, G) of checked, broadcast phase arrays."""
+    present = f > 0.0
+    K_min = min_phases(np.where(present, K, np.inf))
+    G_min = min_phases(np.where(present, G, np.inf))
+    return _harmonic(K, f, 4.0 / 3.0 * G_min), _harmonic(G, f, _zeta(K_min, G_min))
+
+
+def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
+    """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
+    return Moduli(*_hs_upper(*_phases(K, G, fractions)))
 
 
 def hashin_shtrikman_average(K, G, fractions) -> Moduli:

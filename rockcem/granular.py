@@ -514,7 +514,7 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    from .bounds import hashin_shtrikman, hill
+    from .bounds import hashin_shtrikman_upper, hill
     from .inclusions import self_consistent
 
     phi, phic_arr = _porosity(phi, phic)
@@ -528,8 +528,8 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     cct = contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, thickness)
     hm = hertz_mindlin(K0, G0, phic_arr, n, pressure, f, delta)
     frac = np.clip(phip / phic_arr, 0.0, 1.0)
-    end_b = hashin_shtrikman(stack_phases(cct.K, hm.K), stack_phases(cct.G, hm.G),
-                             stack_phases(frac, 1.0 - frac)).upper
+    end_b = hashin_shtrikman_upper(stack_phases(cct.K, hm.K), stack_phases(cct.G, hm.G),
+                                   stack_phases(frac, 1.0 - frac))
     end_s = self_consistent(stack_phases(K0, Kc), stack_phases(G0, Gc),
                             stack_phases(1.0 - phic_arr, phic_arr))
     x = phi / phic_arr
