@@ -15,7 +15,9 @@ from rockcem.constants import LN10, ZERO_CELSIUS_IN_KELVIN
 
 __all__ = ["cumulative_power10", "cumulative_arrhenius"]
 
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
+# 6-point Gauss–Legendre: on a piece where a/T changes by less than 1/2 its relative error is
+# about (1/4)^12 / 12! ~ 1e-16.
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(6)
 
 
 def _cumulate(pieces):
@@ -74,7 +76,7 @@ def cumulative_arrhenius(time, temperature, activation, *, start_temperature=Non
 
     On a piece with a large change of :math:`a/T` the closed form
     :math:`\Delta t\,[F(T_2) - F(T_1)]/\Delta T` (eq. A.2 of Carcione et al. 2022) is used; where
-    :math:`|a/T_2 - a/T_1| < 1/2` the difference would cancel, and a 10-point Gauss–Legendre rule
+    :math:`|a/T_2 - a/T_1| < 1/2` the difference would cancel, and a 6-point Gauss–Legendre rule
     on the piece (exact to round-off for an integrand that changes by less than :math:`e^{1/2}`)
     is used instead. ``start_temperature`` is not supported (the Arrhenius factor already
     vanishes at low temperature).
@@ -89,9 +91,12 @@ def cumulative_arrhenius(time, temperature, activation, *, start_temperature=Non
     near = np.abs(activation / T2 - activation / T1) < 0.5
     pieces = np.empty(T1.shape)
     if np.any(near):
-        t1, t2, d = T1[near][:, None], T2[near][:, None], dt[near]
-        Tq = 0.5 * (t1 + t2) + 0.5 * (t2 - t1) * _GL_X
-        pieces[near] = 0.5 * d * np.sum(_GL_W * np.exp(-activation / Tq), axis=-1)
+        t1, t2, d = T1[near], T2[near], dt[near]
+        mid, half = 0.5 * (t1 + t2), 0.5 * (t2 - t1)
+        acc = np.zeros(t1.shape)
+        for x, w in zip(_GL_X, _GL_W):
+            acc += w * np.exp(-activation / (mid + half * x))
+        pieces[near] = 0.5 * d * acc
     far = ~near
     if np.any(far):
         t1, t2 = T1[far], T2[far]
