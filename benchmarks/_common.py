@@ -189,6 +189,15 @@ def source_attrs():
     }
 
 
+def announce_source():
+    """Fingerprint the rockcem just imported (others may edit the checkout) and print it."""
+    src = source_attrs()
+    print(f"rockcem from {src['rockcem_path']}, commit {src['git_commit'][:10]}, uncommitted: "
+          f"{src['git_uncommitted_rockcem_files']}, sources sha256 "
+          f"{src['rockcem_source_sha256'][:12]}", flush=True)
+    return src
+
+
 def result_path(name, ext, tag=""):
     """``benchmarks/results/<name>[_<tag>].<ext>``."""
     return RESULTS / (f"{name}_{tag}.{ext}" if tag else f"{name}.{ext}")

@@ -55,10 +55,7 @@ def main(argv=None):
     from rockcem.inclusions import self_consistent
     from rockcem.materials import fluid
 
-    src = _common.source_attrs()  # fingerprint the code just imported (others may edit it)
-    print(f"rockcem from {src['rockcem_path']}, commit {src['git_commit'][:10]}, uncommitted: "
-          f"{src['git_uncommitted_rockcem_files']}, sources sha256 "
-          f"{src['rockcem_source_sha256'][:12]}", flush=True)
+    _common.announce_source()
 
     t_start = time.perf_counter()
     water = fluid("water")
