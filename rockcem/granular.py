@@ -394,8 +394,9 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
             thick = np.broadcast_to(eps > 0.0, np.broadcast_shapes(eps.shape, alpha.shape))
             Sn0 = cemented_contact_stiffness(a_pos, Lambda_n, 0.0, panels=panels)
             St0 = cemented_contact_stiffness(a_pos, Lambda_s, 0.0, panels=panels)
-            Sn = np.where(thick & (alpha > 0.0), Sn * Sn_e / Sn0, Sn)
-            St = np.where(thick & (alpha > 0.0), St * St_e / St0, St)
+            # With a gap and no cement the grains do not touch: the ratio (and S) is 0 there.
+            Sn = np.where(thick, Sn * Sn_e / Sn0, Sn)
+            St = np.where(thick, St * St_e / St0, St)
     Mc = Kc + 4.0 / 3.0 * Gc
     K = n * (1.0 - phic) * Mc * Sn / 6.0
     G = 0.6 * K + 0.15 * n * (1.0 - phic) * Gc * St

@@ -111,3 +111,10 @@ def test_contact_cement_integral_zero_cement():
 def test_contact_cement_bad_stiffness_option():
     with pytest.raises(ValueError, match="stiffness"):
         contact_cement(40.0, 39.0, 35.0, 30.0, 0.3, 0.4, 9.0, stiffness="exact")
+
+
+def test_gap_without_cement_has_no_stiffness():
+    """Grains apart (thickness > 0) with no cement between them carry no load."""
+    for stiffness in ("fit", "integral"):
+        m = contact_cement(*GRAIN, *CEMENT, 0.4, 0.4, 8.5, 2, 0.02, stiffness=stiffness)
+        assert float(m.K) == 0.0 and float(m.G) == 0.0
