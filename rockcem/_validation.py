@@ -47,7 +47,7 @@ def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> 
     if fractions.ndim == 0:
         raise ValueError(f"{name} must have the phases on its last axis")
     check_range(name, fractions, 0.0, 1.0)
-    total = fractions.sum(axis=-1)
+    total = sum_phases(fractions)
     if np.any(np.abs(total - 1.0) > atol):
         worst = total.flat[np.argmax(np.abs(total - 1.0))]
         raise ValueError(f"{name} must sum to 1 along the last axis (phases); got a sum of {worst:g}")

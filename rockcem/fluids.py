@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_fractions, check_positive, check_range
+from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+                          sum_phases)
 
 __all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]
 
@@ -173,13 +174,13 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
                                         K_fluid=K_fluid[..., None], phi=phi[..., None])
     K_fluid, phi = Kf[..., 0], ph[..., 0]
     alpha_i = beta - K_mi / K_i
-    alpha = np.sum(alpha_i, axis=-1)
-    compliance = np.sum((alpha_i - beta * phi[..., None]) / K_i, axis=-1)
+    alpha = sum_phases(alpha_i)
+    compliance = sum_phases((alpha_i - beta * phi[..., None]) / K_i)
     # M = 1/(compliance + phi/K_f) = K_f / (K_f compliance + phi), finite for K_f = 0.
     denom = K_fluid * compliance + phi
     ok = denom > 0.0
     M = np.where(ok, K_fluid / np.where(ok, denom, 1.0), 0.0)
-    K_m = np.sum(K_mi, axis=-1)
+    K_m = sum_phases(K_mi)
     # denom = 0 only when phi = 0 and sum(alpha_i/K_i) = 0, i.e. the frame is the mineral.
     return K_m + alpha * alpha * M
 

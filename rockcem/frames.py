@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_fractions, check_positive, check_range
+from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+                          sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli
 
@@ -102,8 +103,8 @@ def krief_multimineral(K_solid, G_solid, solid_fractions, phi, A=3.0) -> Moduli:
     K, G, beta = broadcast(K_solid=K, G_solid=G, solid_fractions=beta)
     factor = krief_factor(phi, A)[..., None]
     hs = hashin_shtrikman_average(K, G, beta)
-    V_K = np.sum(beta * K, axis=-1)
-    V_G = np.sum(beta * G, axis=-1)
+    V_K = sum_phases(beta * K)
+    V_G = sum_phases(beta * G)
     K_mi = (hs.K / V_K)[..., None] * beta * K * factor
     with np.errstate(invalid="ignore", divide="ignore"):
         G_scale = np.where(V_G > 0.0, hs.G / np.where(V_G > 0.0, V_G, 1.0), 0.0)

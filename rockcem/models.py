@@ -24,7 +24,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_fractions, check_range, stack_phases
+from ._validation import (as_array, broadcast, check_fractions, check_range, stack_phases,
+                          sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
@@ -101,8 +102,8 @@ def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     """
     beta = np.asarray(solid_fractions, dtype=float)
     phi = np.asarray(porosity, dtype=float)
-    return (1.0 - phi) * np.sum(beta * np.asarray(mineral_density, dtype=float), axis=-1) \
-        + phi * np.asarray(fluid_density, dtype=float)
+    solid = sum_phases(beta * np.asarray(mineral_density, dtype=float))
+    return (1.0 - phi) * solid + phi * np.asarray(fluid_density, dtype=float)
 
 
 def _finish(K_dry, G_dry, K_sat, G_sat, density) -> RockProperties:
@@ -202,8 +203,8 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
     K_sat = generalized_gassmann(frames.K, K_i, beta, fluid.K, phi)
-    G_dry = np.sum(frames.G, axis=-1)
-    return _finish(np.sum(frames.K, axis=-1), G_dry, K_sat, G_dry,
+    G_dry = sum_phases(frames.G)
+    return _finish(sum_phases(frames.K), G_dry, K_sat, G_dry,
                    bulk_density(rho, beta, phi, fluid.rho))
 
 
