@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_fractions, check_positive
+from ._validation import as_array, broadcast, check_fractions, check_positive, max_phases
 from .bounds import hashin_shtrikman, reuss
 from .elastic import Moduli
 
@@ -265,9 +265,9 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
 
     hs = hashin_shtrikman(K_i, G_i, fr)
     Kr = reuss(K_i, G_i, fr).K
-    Ke = np.array(hs.K_upper, dtype=float)
-    Ge = np.array(hs.G_upper, dtype=float)
-    npts = Ke.size
+    npts = K_i.shape[0]
+    Ke = np.array(hs.K_upper, dtype=float).reshape(npts)
+    Ge = np.array(hs.G_upper, dtype=float).reshape(npts)
     iterations = np.zeros(npts, dtype=int)
     residual = np.full(npts, np.inf)
     done = np.zeros(npts, dtype=bool)
@@ -275,63 +275,72 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     fluid = Ge <= 0.0
     Ke[fluid], Ge[fluid], residual[fluid], done[fluid] = Kr[fluid], 0.0, 0.0, True
 
-    # Jacobian of each point: finite differences at its first iteration, then Broyden's rank-one
-    # update from the step taken and the change of the residual (one evaluation per iteration).
-    J = np.zeros((npts, 2, 2))
-    K_up, G_up = Ke.copy(), Ge.copy()
-    rel_prev = np.full(npts, np.inf)
-    r_prev = np.zeros((npts, 2))
-    dx_prev = np.zeros((npts, 2))
+    # Working set: the unconverged points, compacted as points converge (gathers from the full
+    # arrays at every step would cost more than the physics).
+    idx = np.flatnonzero(~done)
+    k, g = Ke[idx], Ge[idx]
+    K_up, G_up, K_reuss = Ke[idx], Ge[idx], Kr[idx]
+    inputs = [K_i[idx], G_i[idx], fr[idx], theta[idx], f[idx], sphere[idx]]
+    scale = max_phases(inputs[0])
+    # Jacobian of each point: finite differences at its first step and wherever the residual
+    # grew; otherwise Broyden's rank-one update from the step taken (one evaluation per step).
+    j11, j12, j21, j22, r1p, r2p, dk, dg = (np.zeros(idx.size) for _ in range(8))
+    relp = np.full(idx.size, np.inf)
     for it in range(1, int(max_iter) + 1):
-        act = np.flatnonzero(~done)
-        if act.size == 0:
+        if idx.size == 0:
             break
-        k, g = Ke[act], Ge[act]
-        args = (K_i[act], G_i[act], fr[act], theta[act], f[act], sphere[act], columns)
-        r = np.stack(_residual(k, g, *args), axis=-1)
-        rel = np.abs(r[:, 0]) / k + np.abs(r[:, 1]) / g
-        Ja = J[act]
+        r1, r2 = _residual(k, g, *inputs, columns)
+        rel = np.abs(r1) / k + np.abs(r2) / g
         if it > 1:
-            dx, dr = dx_prev[act], r - r_prev[act]
             # Broyden's update in the relative variables (dk/k, dg/g), which have equal scale.
-            xs = np.stack([k, g], -1)
-            dxs = dx / xs
-            Js = Ja * xs[:, None, :]
-            corr = (dr - np.einsum("nij,nj->ni", Js, dxs)) / np.maximum(
-                np.sum(dxs * dxs, axis=-1), 1e-300)[:, None]
-            Ja = (Js + corr[:, :, None] * dxs[:, None, :]) / xs[:, None, :]
-        # Finite differences at the first step and wherever the residual grew.
-        fresh = np.flatnonzero(rel >= rel_prev[act]) if it > 1 else np.arange(act.size)
+            xk, xg = dk / k, dg / g
+            norm = np.maximum(xk * xk + xg * xg, 1e-300)
+            c1 = (r1 - r1p - (j11 * k * xk + j12 * g * xg)) / norm
+            c2 = (r2 - r2p - (j21 * k * xk + j22 * g * xg)) / norm
+            j11, j12 = j11 + c1 * xk / k, j12 + c1 * xg / g
+            j21, j22 = j21 + c2 * xk / k, j22 + c2 * xg / g
+            fresh = np.flatnonzero(rel >= relp)
+        else:
+            fresh = np.arange(idx.size)
         if fresh.size:
-            sub = tuple(a[fresh] for a in args[:-1]) + (columns,)
-            kf, gf, rf = k[fresh], g[fresh], r[fresh]
+            sub = [a[fresh] for a in inputs]
+            kf, gf = k[fresh], g[fresh]
             hk, hg = 1e-7 * kf, 1e-7 * gf
-            Ja[fresh, :, 0] = (np.stack(_residual(kf + hk, gf, *sub), -1) - rf) / hk[:, None]
-            Ja[fresh, :, 1] = (np.stack(_residual(kf, gf + hg, *sub), -1) - rf) / hg[:, None]
-        det = Ja[:, 0, 0] * Ja[:, 1, 1] - Ja[:, 0, 1] * Ja[:, 1, 0]
+            a1, a2 = _residual(kf + hk, gf, *sub, columns)
+            b1, b2 = _residual(kf, gf + hg, *sub, columns)
+            j11[fresh] = (a1 - r1[fresh]) / hk
+            j21[fresh] = (a2 - r2[fresh]) / hk
+            j12[fresh] = (b1 - r1[fresh]) / hg
+            j22[fresh] = (b2 - r2[fresh]) / hg
+        det = j11 * j22 - j12 * j21
         det = np.where(det == 0.0, np.finfo(float).tiny, det)
-        dk = -(r[:, 0] * Ja[:, 1, 1] - r[:, 1] * Ja[:, 0, 1]) / det
-        dg = -(Ja[:, 0, 0] * r[:, 1] - Ja[:, 1, 0] * r[:, 0]) / det
         # Damping: keep both moduli positive (at most a tenfold drop per step) and below the
         # Hashin–Shtrikman upper bounds, between which the self-consistent moduli lie.
-        k_new = np.minimum(np.maximum(k + dk, 0.1 * k), K_up[act])
-        g_new = np.minimum(np.maximum(g + dg, 0.1 * g), G_up[act])
+        k_new = np.minimum(np.maximum(k - (r1 * j22 - r2 * j12) / det, 0.1 * k), K_up)
+        g_new = np.minimum(np.maximum(g - (j11 * r2 - j21 * r1) / det, 0.1 * g), G_up)
         step = np.abs(k_new - k) / k + np.abs(g_new - g) / g
-        J[act], r_prev[act], rel_prev[act] = Ja, r, rel
-        dx_prev[act] = np.stack([k_new - k, g_new - g], -1)
-        Ke[act], Ge[act] = k_new, g_new
-        iterations[act] = it
-        residual[act] = rel
         # Converged: step and residual below tol, or the residual at round-off level (where the
-        # Jacobian cannot shrink the step any further).
+        # Jacobian cannot shrink the step any further). Shear collapse: the exact limit is
+        # mu = 0 with K the Reuss average.
         conv = ((step < tol) & (rel < tol)) | (rel < 64.0 * np.finfo(float).eps)
-        # Shear collapse: the exact limit is mu = 0 with K the Reuss average.
-        scale = np.max(K_i[act], axis=-1)
         collapse = g_new < 1e-12 * scale
-        Ke[act[collapse]] = Kr[act[collapse]]
-        Ge[act[collapse]] = 0.0
-        residual[act[collapse]] = 0.0
-        done[act[conv | collapse]] = True
+        k_new = np.where(collapse, K_reuss, k_new)
+        g_new = np.where(collapse, 0.0, g_new)
+        rel = np.where(collapse, 0.0, rel)
+        dk, dg, r1p, r2p, relp = k_new - k, g_new - g, r1, r2, rel
+        k, g = k_new, g_new
+        finished = conv | collapse
+        if np.any(finished) or it == int(max_iter):
+            out = finished if it < int(max_iter) else slice(None)
+            Ke[idx[out]], Ge[idx[out]], residual[idx[out]] = k[out], g[out], rel[out]
+            iterations[idx[out]] = it
+            done[idx[finished]] = True
+            keep = ~finished
+            idx, k, g, K_up, G_up, K_reuss, scale = (a[keep] for a in (idx, k, g, K_up, G_up,
+                                                                         K_reuss, scale))
+            inputs = [a[keep] for a in inputs]
+            j11, j12, j21, j22, r1p, r2p, relp, dk, dg = (
+                a[keep] for a in (j11, j12, j21, j22, r1p, r2p, relp, dk, dg))
     if not np.all(done):
         bad = np.flatnonzero(~done)
         raise RuntimeError(
