@@ -11,6 +11,7 @@ from .compaction import (SandstonePorosity, athy_porosity, intergranular_volume,
                          sandstone_porosity)
 from .path import BurialPath, Pressures, linear_path, path_from_nodes, pressures
 from .quartz import quartz_cement
+from .state import sandstone_state, shale_state
 
 __all__ = [
     "BurialPath",
@@ -25,4 +26,6 @@ __all__ = [
     "intergranular_volume",
     "sandstone_porosity",
     "SandstonePorosity",
+    "sandstone_state",
+    "shale_state",
 ]
