@@ -23,6 +23,22 @@ _GL_TIERS = [(0.01, np.polynomial.legendre.leggauss(3)),
              (1.0, np.polynomial.legendre.leggauss(6))]
 
 
+def _blocked(fn, T1, T2, dt, block=1 << 15):
+    """Apply ``fn(T1, T2, dt)`` (1-D arrays of pieces) in cache-sized blocks.
+
+    The per-piece formulas make several temporaries; on blocks of a few ten thousand pieces
+    they stay in cache, which is 2–3 times faster than whole-array passes over 10^7 pieces.
+    """
+    T1, T2, dt = np.broadcast_arrays(T1, T2, dt)
+    shape = T1.shape
+    flat = [np.ascontiguousarray(a).reshape(-1) for a in (T1, T2, dt)]
+    out = np.empty(flat[0].size)
+    for i in range(0, out.size, block):
+        sl = slice(i, i + block)
+        out[sl] = fn(flat[0][sl], flat[1][sl], flat[2][sl])
+    return out.reshape(shape)
+
+
 def _cumulate(pieces):
     """Cumulative sum along the last axis with a leading zero (value at the first node)."""
     out = np.zeros(pieces.shape[:-1] + (pieces.shape[-1] + 1,))
@@ -46,24 +62,22 @@ def cumulative_power10(time, temperature, b, *, start_temperature=None):
     """
     t = np.asarray(time, dtype=float)
     T = np.asarray(temperature, dtype=float)
-    dt = np.diff(t, axis=-1)
-    T1, T2 = T[..., :-1], T[..., 1:]
-    if start_temperature is not None:
-        Ts = float(start_temperature)
-        dT = T2 - T1
-        # Fraction of the piece above Ts, and the temperatures at the ends of that part.
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s_cross = np.where(dT != 0.0, (Ts - T1) / np.where(dT != 0.0, dT, 1.0), 0.0)
-        s_cross = np.clip(s_cross, 0.0, 1.0)
-        lo = np.where(T1 >= Ts, 0.0, s_cross)           # start of the hot part
-        hi = np.where(T2 >= Ts, 1.0, s_cross)           # end of the hot part
-        hot = (T1 >= Ts) | (T2 >= Ts)
-        frac = np.where(hot, hi - lo, 0.0)
-        T1, T2 = T1 + lo * dT, T1 + hi * dT
-        dt = dt * frac
-    dT = T2 - T1
-    pieces = dt * 10.0 ** (b * T1) * exprel(b * dT * LN10)
-    return _cumulate(pieces)
+    Ts = None if start_temperature is None else float(start_temperature)
+
+    def pieces(T1, T2, dt):
+        if Ts is not None:
+            dT = T2 - T1
+            # Fraction of the piece above Ts, and the temperatures at the ends of that part.
+            with np.errstate(divide="ignore", invalid="ignore"):
+                s_cross = np.where(dT != 0.0, (Ts - T1) / np.where(dT != 0.0, dT, 1.0), 0.0)
+            s_cross = np.clip(s_cross, 0.0, 1.0)
+            lo = np.where(T1 >= Ts, 0.0, s_cross)           # start of the hot part
+            hi = np.where(T2 >= Ts, 1.0, s_cross)           # end of the hot part
+            frac = np.where((T1 >= Ts) | (T2 >= Ts), hi - lo, 0.0)
+            T1, T2, dt = T1 + lo * dT, T1 + hi * dT, dt * frac
+        return dt * 10.0 ** (b * T1) * exprel(b * (T2 - T1) * LN10)
+
+    return _cumulate(_blocked(pieces, T[..., :-1], T[..., 1:], np.diff(t, axis=-1)))
 
 
 def _arrhenius_antiderivative(T, a):
@@ -88,32 +102,30 @@ def cumulative_arrhenius(time, temperature, activation, *, start_temperature=Non
         raise ValueError("start_temperature is not used by the Arrhenius kinetics")
     t = np.asarray(time, dtype=float)
     TK = np.asarray(temperature, dtype=float) + ZERO_CELSIUS_IN_KELVIN
-    dt = np.diff(t, axis=-1)
-    T1, T2 = TK[..., :-1], TK[..., 1:]
-    T1, T2, dt = np.broadcast_arrays(T1, T2, dt)
-    x = activation / TK
-    dx = np.broadcast_to(np.abs(np.diff(x, axis=-1)), T1.shape)
-    pieces = np.empty(T1.shape)
-    lower = 0.0
-    for upper, (nodes, weights) in _GL_TIERS:
-        sel = (dx >= lower) & (dx < upper)
-        lower = upper
-        if not np.any(sel):
-            continue
-        every = bool(np.all(sel))          # the common case: no copies through a mask
-        t1, t2, d = (T1, T2, dt) if every else (T1[sel], T2[sel], dt[sel])
-        mid, half = 0.5 * (t1 + t2), 0.5 * (t2 - t1)
-        acc = np.zeros(t1.shape)
-        for xg, w in zip(nodes, weights):
-            acc += w * np.exp(-activation / (mid + half * xg))
-        if every:
-            pieces = 0.5 * d * acc
-        else:
-            pieces[sel] = 0.5 * d * acc
-    near = dx < lower
-    far = ~near
-    if np.any(far):
-        t1, t2 = T1[far], T2[far]
-        pieces[far] = dt[far] * (_arrhenius_antiderivative(t2, activation)
-                                 - _arrhenius_antiderivative(t1, activation)) / (t2 - t1)
-    return _cumulate(pieces)
+
+    def pieces(T1, T2, dt):
+        dx = np.abs(activation / T2 - activation / T1)
+        out = np.empty(T1.shape)
+        lower = 0.0
+        for upper, (nodes, weights) in _GL_TIERS:
+            sel = (dx >= lower) & (dx < upper)
+            lower = upper
+            if not np.any(sel):
+                continue
+            every = bool(np.all(sel))      # the common case: no copies through a mask
+            t1, t2, d = (T1, T2, dt) if every else (T1[sel], T2[sel], dt[sel])
+            mid, half = 0.5 * (t1 + t2), 0.5 * (t2 - t1)
+            acc = np.zeros(t1.shape)
+            for xg, w in zip(nodes, weights):
+                acc += w * np.exp(-activation / (mid + half * xg))
+            if every:
+                return 0.5 * d * acc
+            out[sel] = 0.5 * d * acc
+        far = dx >= lower
+        if np.any(far):
+            t1, t2 = T1[far], T2[far]
+            out[far] = dt[far] * (_arrhenius_antiderivative(t2, activation)
+                                  - _arrhenius_antiderivative(t1, activation)) / (t2 - t1)
+        return out
+
+    return _cumulate(_blocked(pieces, TK[..., :-1], TK[..., 1:], np.diff(t, axis=-1)))
