@@ -71,3 +71,18 @@ def test_import_burial_does_not_load_xarray_or_numba():
 def test_unknown_variable_suggests():
     with pytest.raises(ValueError, match="porosity"):
         variable_attrs("porosty")
+
+
+def test_carcione2022_fig10_shale_porosity_and_density(path):
+    """Fig. 10: shale porosity falls and bulk density (eq. 24, smectite 2.25, illite 2.8, water
+    1.04 g/cm3, Table 1) rises with depth for G = 30 degC/km."""
+    from rockcem.models import bulk_density
+
+    ds = shale_state(path)
+    beta = np.stack([ds.smectite_fraction.values, ds.illite_fraction.values], axis=-1)
+    rho = bulk_density([2.25, 2.8], beta, ds.porosity.values, 1.04)
+    expected = (1 - ds.porosity) * (2.25 * ds.smectite_fraction + 2.8 * ds.illite_fraction) \
+        + ds.porosity * 1.04
+    np.testing.assert_allclose(rho, expected, rtol=1e-14)
+    assert np.all(np.diff(ds.porosity) < 0) and np.all(np.diff(rho) > 0)
+    assert rho[0] == pytest.approx(0.65 * (0.99 * 2.25 + 0.01 * 2.8) + 0.35 * 1.04, rel=1e-14)
