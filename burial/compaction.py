@@ -90,20 +90,23 @@ class SandstonePorosity(NamedTuple):
 
 def sandstone_porosity(intergranular_volume, cement_fraction) -> SandstonePorosity:
     r"""Porosity of a sandstone from its IGV and quartz cement, eq. B.8: :math:`\phi = \mathrm{IGV}
-    - \phi_p`.
+    - \phi_p`, along a burial path (time on the last axis).
 
     The cement of eq. B.1 is computed as if the pores were never lost to compaction; once it
     reaches the intergranular volume (near 4.45 km in the worked example of Carcione et al.
     2022, Sect. 6.2, where they note the porosity "becomes negative") there is no pore space
-    left: here the porosity is clipped at 0, the cement at the IGV, and the point flagged in
-    ``pore_filled``. Porosity is never negative.
+    left. Here, from that node on, the porosity is 0, the cement is what filled the pores, and
+    the point is flagged in ``pore_filled``; a cemented framework does not compact further, so
+    the intergranular volume stays at the cement volume (it never falls below the cement already
+    in place, and cement never dissolves). Porosity is never negative and cement never decreases
+    along the path.
 
     Parameters
     ----------
-    intergranular_volume : array_like
-        IGV, fraction in [0, 1] (from :func:`intergranular_volume`).
-    cement_fraction : array_like
-        Quartz cement :math:`\phi_p` from :func:`burial.quartz_cement`, ``>= 0``.
+    intergranular_volume : array_like, shape (..., n_nodes)
+        IGV along the path, fraction in [0, 1] (from :func:`intergranular_volume`).
+    cement_fraction : array_like, shape (..., n_nodes)
+        Quartz cement :math:`\phi_p` along the path from :func:`burial.quartz_cement`, ``>= 0``.
 
     Returns
     -------
@@ -113,6 +116,9 @@ def sandstone_porosity(intergranular_volume, cement_fraction) -> SandstonePorosi
                                                         intergranular_volume), 0.0, 1.0)
     phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
     igv, phip = np.broadcast_arrays(igv, phip)
-    filled = phip >= igv
-    cement = np.minimum(phip, igv)
-    return SandstonePorosity(igv - cement, cement, igv, filled)
+    if igv.ndim == 0:
+        cement = np.minimum(phip, igv)
+    else:
+        cement = np.maximum.accumulate(np.minimum(phip, igv), axis=-1)
+    igv_eff = np.maximum(igv, cement)
+    return SandstonePorosity(igv_eff - cement, cement, igv_eff, phip >= igv_eff)

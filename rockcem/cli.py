@@ -24,6 +24,70 @@ def _materials(args) -> int:
     return 0
 
 
+def _summary(ds) -> str:
+    lines = [f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
+             f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m"]
+    extra = [d for d in ds.dims if d not in ("depth", "model")]
+    if extra:
+        lines.append("sweep: " + ", ".join(f"{d} = {ds[d].values.tolist()}" for d in extra))
+    deep = ds.isel(depth=-1)
+    for name in ("porosity", "cement_fraction", "illite_fraction", "density"):
+        if name in ds and not extra:
+            lines.append(f"  {name} at {float(ds.depth[-1]):g} m: {float(deep[name]):.4g} "
+                         f"{'' if ds[name].attrs.get('units') == '1' else ds[name].units}"
+                         .rstrip())
+    if "vp" in ds and not extra:
+        for m in ds.model.values:
+            v = deep.sel(model=m)
+            vs = f", vs {float(v.vs):.3f}" if "vs" in ds else ""
+            lines.append(f"  {m}: vp {float(v.vp):.3f}{vs} km/s at {float(ds.depth[-1]):g} m")
+    return "\n".join(lines)
+
+
+def _run(args) -> int:
+    from .scene import load_scene, run_scene, write_dataset
+
+    scene = load_scene(args.scene)
+    out = args.output or scene.output
+    ds = run_scene(scene, scheduler=args.scheduler, progress=not args.quiet)
+    path = write_dataset(ds, out)
+    if not args.quiet:
+        print(_summary(ds))
+        print(f"wrote {path}")
+    return 0
+
+
+def _demo(args) -> int:
+    from .scene import load_scene, run_scene, write_dataset
+
+    scene = load_scene("carcione2022_sandstone")
+    ds = run_scene(scene, progress=not args.quiet)
+    nc = write_dataset(ds, f"{scene.name}.nc")
+    png = None
+    try:
+        from .plots import depth_trends, save_figure
+    except ImportError:  # plots are optional for the demo's data file
+        depth_trends = None
+    if depth_trends is not None:
+        png = save_figure(depth_trends(ds), f"{scene.name}.png")
+    if not args.quiet:
+        print(_summary(ds))
+        print(f"wrote {nc}" + (f" and {png}" if png else ""))
+    return 0
+
+
+def _scenes(args) -> int:
+    import tomllib
+
+    from .scene import shipped_scenes
+
+    for name, path in shipped_scenes().items():
+        with open(path, "rb") as fh:
+            desc = tomllib.load(fh).get("description", "")
+        print(f"{name:<40} {desc}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
 
@@ -32,6 +96,18 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("materials", help="list the mineral and fluid catalogue")
     p.set_defaults(func=_materials)
+    p = sub.add_parser("scenes", help="list the shipped scenes")
+    p.set_defaults(func=_scenes)
+    p = sub.add_parser("run", help="run a scene (a TOML file or a shipped scene name)")
+    p.add_argument("scene", help="scene file or shipped scene name (see `rockcem scenes`)")
+    p.add_argument("-o", "--output", help="netCDF file to write (default: the scene's output)")
+    p.add_argument("--scheduler", default=None,
+                   help="run a sweep on dask: 'local' or a scheduler address (needs [dask])")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
+    p.set_defaults(func=_run)
+    p = sub.add_parser("demo", help="run the sandstone example; write a netCDF file and a figure")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
+    p.set_defaults(func=_demo)
     return parser
 
 
@@ -44,6 +120,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, FileNotFoundError) as exc:
         print(f"rockcem: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into `head` and friends
+        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

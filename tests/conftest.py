@@ -27,3 +27,24 @@ def expect_value_error():
                 call()
 
     return check
+
+
+@pytest.fixture
+def run_cli():
+    """Run ``python -m rockcem.cli ARGS`` in a folder, finding the rockcem under test."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import rockcem
+
+    root = str(Path(rockcem.__file__).resolve().parents[1])
+
+    def run(args, cwd):
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+            [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
+        return subprocess.run([sys.executable, "-m", "rockcem.cli", *args], capture_output=True,
+                              text=True, cwd=cwd, env=env)
+
+    return run

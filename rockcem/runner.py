@@ -1,0 +1,295 @@
+"""The scene runner: burial path → rock state → petro-elastic models → one ``xarray.Dataset``.
+
+Private to :mod:`rockcem.scene`. Every quantity is computed on demand and at most once
+(``functools.cached_property``), so a scene computes only what its outputs need: a shale scene
+never touches the quartz-cement kinetics, a scene without model outputs runs no model, and a
+scene asking for one model computes one model.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+from functools import cached_property
+
+import numpy as np
+
+from .references import REFERENCES
+
+__all__ = ["evaluate", "run"]
+
+_MODEL_LABELS_LONG = {
+    "hs_gassmann": "Model 1: Hashin-Shtrikman + Krief + Gassmann",
+    "self_consistent": "Model 2: self-consistent, spheroidal pores",
+    "generalized_gassmann": "Model 3: multi-mineral Krief + generalized Gassmann",
+    "patchy_cement": "Model 4: patchy cement + Gassmann",
+}
+
+
+class _Pipeline:
+    """Lazily evaluated quantities of one scene member."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self.sec = scene.sections
+        self.lith = scene.sections[scene.lithology]
+
+    @cached_property
+    def path(self):
+        import burial
+
+        p = self.sec["path"]
+        rate = p["sedimentation_rate"]
+        if p["heating_rate"] is not None:
+            if p["heating_rate"] <= 0:
+                raise ValueError("scene key path.heating_rate must be > 0")
+            rate = p["heating_rate"] / p["gradient"] * 1000.0 if p["gradient"] > 0 else -1.0
+        try:
+            return burial.linear_path(p["gradient"], rate, p["surface_temperature"],
+                                      p["max_depth"], depth_step=p["depth_step"])
+        except ValueError as exc:
+            raise ValueError(f"scene section [path]: {exc}") from None
+
+    @cached_property
+    def pressures(self):
+        import burial
+
+        try:
+            return burial.pressures(self.path, **self.sec["pressure"])
+        except ValueError as exc:
+            raise ValueError(f"scene section [pressure]: {exc}") from None
+
+    @cached_property
+    def sandstone(self):
+        import burial
+
+        s = self.lith
+        try:
+            phip = burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
+                                        s["quartz_fraction"], s["clay_coating"],
+                                        start_temperature=s["start_temperature"])
+            igv = burial.intergranular_volume(s["porosity0"], self.pressures.max_effective,
+                                              s["igv_final"], s["beta"])
+        except ValueError as exc:
+            raise ValueError(f"scene section [sandstone]: {exc}") from None
+        return burial.sandstone_porosity(igv, phip)
+
+    @cached_property
+    def shale_porosity(self):
+        import burial
+
+        try:
+            return burial.athy_porosity(self.lith["porosity0"], self.pressures.max_effective,
+                                        self.lith["beta"])
+        except ValueError as exc:
+            raise ValueError(f"scene section [shale]: {exc}") from None
+
+    @cached_property
+    def smectite(self):
+        import burial
+
+        s = self.lith
+        try:
+            return burial.smectite_fraction(self.path, s["r0"], s["order"],
+                                            s["activation_energy"], s["frequency_factor"])
+        except ValueError as exc:
+            raise ValueError(f"scene section [shale]: {exc}") from None
+
+    @cached_property
+    def materials(self):
+        from . import materials
+
+        m = self.sec["materials"]
+        names = ("grain", "cement") if self.scene.lithology == "sandstone" else \
+            ("smectite", "illite")
+        return [materials.mineral(m[n]) for n in names], materials.fluid(m["fluid"])
+
+    @cached_property
+    def porosity(self):
+        return self.sandstone.porosity if self.scene.lithology == "sandstone" \
+            else self.shale_porosity
+
+    @cached_property
+    def solid_fractions(self):
+        """Fractions of the two solids per unit volume of solid (last axis)."""
+        if self.scene.lithology == "shale":
+            r = self.smectite
+            return np.stack([r, 1.0 - r], axis=-1)
+        phi, phip = self.sandstone.porosity, self.sandstone.cement_fraction
+        beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
+        return np.stack([1.0 - beta_c, beta_c], axis=-1)
+
+    @cached_property
+    def density(self):
+        from .models import bulk_density
+
+        minerals, fluid = self.materials
+        return bulk_density([m.rho for m in minerals], self.solid_fractions, self.porosity,
+                            fluid.rho)
+
+    def model(self, label):
+        from . import models
+
+        minerals, fluid = self.materials
+        knobs = self.sec[f"models.{label}"]
+        try:
+            if label == "patchy_cement":
+                s = self.sandstone
+                return models.patchy_cement_model(
+                    minerals[0], minerals[1], s.porosity, s.cement_fraction,
+                    self.pressures.effective, fluid, critical_porosity=self.lith["porosity0"],
+                    **knobs)
+            fn = {"hs_gassmann": models.hs_gassmann,
+                  "self_consistent": models.self_consistent_model,
+                  "generalized_gassmann": models.generalized_gassmann_model}[label]
+            return fn(minerals, self.solid_fractions, self.porosity, fluid, **knobs)
+        except ValueError as exc:
+            raise ValueError(f"scene section [models.{label}]: {exc}") from None
+
+    def state_variable(self, name):
+        if name == "time":
+            return self.path.time
+        if name == "temperature":
+            return self.path.temperature
+        if name.startswith("pressure_"):
+            return {"pressure_confining": self.pressures.confining,
+                    "pressure_pore": self.pressures.pore,
+                    "pressure_effective": self.pressures.effective}[name]
+        if name == "porosity":
+            return self.porosity
+        if name == "density":
+            return self.density
+        if name in ("cement_fraction", "intergranular_volume", "pore_filled"):
+            return getattr(self.sandstone, name)
+        if name == "smectite_fraction":
+            return self.smectite
+        if name == "illite_fraction":
+            return 1.0 - self.smectite
+        raise ValueError(f"no state variable {name!r}")  # guarded by scene validation
+
+
+def _global_attrs(scene):
+    from . import __version__
+
+    keys = ["Carcione2022", "Walton1987", "Mavko2009"]
+    if "self_consistent" in scene.models:
+        keys.append("Berryman1980")
+    if "generalized_gassmann" in scene.models:
+        keys.append("Carcione2005")
+    if "patchy_cement" in scene.models:
+        keys += ["DvorkinNur1996", "Avseth2016", "GangiCarlson1996"]
+    params = {k: v for k, v in scene.sections.items()}
+    return {
+        "Conventions": "CF-1.10",
+        "title": f"rockcem scene {scene.name}",
+        "scene_name": scene.name,
+        "scene_description": scene.description,
+        "lithology": scene.lithology,
+        "scene_toml": scene.text,
+        "parameters_json": json.dumps(params, sort_keys=True),
+        "models": " ".join(scene.models),
+        "source": f"rockcem {__version__}",
+        "rockcem_version": __version__,
+        "history": f"{datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')}"
+                   f" created by rockcem {__version__}",
+        "references": "\n".join(f"[{k}] {REFERENCES[k]}" for k in keys),
+        **({"grain": scene.sections["materials"]["grain"],
+            "cement": scene.sections["materials"]["cement"],
+            "critical_porosity": scene.sections["sandstone"]["porosity0"]}
+           if scene.lithology == "sandstone" else
+           {"smectite": scene.sections["materials"]["smectite"],
+            "illite": scene.sections["materials"]["illite"]}),
+        "fluid": scene.sections["materials"]["fluid"],
+    }
+
+
+def evaluate(scene):
+    """The Dataset of one scene member (no sweep)."""
+    from .variables import build_dataset
+
+    pipe = _Pipeline(scene)
+    depth = pipe.path.depth
+    data = {}
+    for name in scene.outputs:
+        if name not in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs"):
+            data[name] = (("depth",), np.asarray(pipe.state_variable(name)))
+    wanted = [n for n in scene.outputs if n in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")]
+    coords = {"depth": (("depth",), depth)}
+    if wanted:
+        results = [pipe.model(label) for label in scene.models]
+        for name in wanted:
+            data[name] = (("model", "depth"), np.stack([getattr(r, name) for r in results]))
+        coords["model"] = (("model",), np.array(scene.models, dtype=object))
+    ds = build_dataset(data, coords, _global_attrs(scene))
+    if "model" in ds.coords:
+        ds["model"].attrs["long_name"] = "petro-elastic model"
+        ds["model"].attrs["description"] = "; ".join(
+            f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
+    return ds
+
+
+def _run_member(args):
+    coords, member = args
+    ds = evaluate(member)
+    return coords, ds
+
+
+def run(scene, *, scheduler=None, progress=False):
+    """Run a scene and its sweep (serially, or on dask.distributed)."""
+    import xarray as xr
+
+    from .scene import _sweep_members
+
+    members = list(_sweep_members(scene))
+    if not scene.sweep:
+        return evaluate(scene)
+    if scheduler is None:
+        from tqdm.auto import tqdm
+
+        results = [_run_member(m) for m in tqdm(members, desc=scene.name, disable=not progress,
+                                                 unit="member")]
+    else:
+        results = _run_dask(members, scheduler, progress)
+    parts = []
+    for coords, ds in results:
+        ds = ds.expand_dims({k: [v] for k, v in coords.items()})
+        parts.append(ds)
+    out = xr.combine_by_coords(parts, combine_attrs="override")
+    for key in coords:
+        unit = _sweep_unit(key)
+        out[key].attrs.update({"units": unit, "long_name": f"swept {key.replace('_', ' ')}"})
+    out.attrs["sweep"] = json.dumps(scene.sweep)
+    out.attrs["scene_toml"] = scene.text
+    return out
+
+
+def _sweep_unit(key):
+    from .scene import _SWEEP_UNITS
+
+    return _SWEEP_UNITS.get(key, "1")
+
+
+def _run_dask(members, scheduler, progress):
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise ValueError("running a sweep on dask needs the 'dask' extra: "
+                         "pip install 'rockcem[dask]'") from None
+    cluster = None
+    if scheduler == "local":
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+    else:
+        client = Client(scheduler)
+    try:
+        futures = client.map(_run_member, members, pure=False)
+        if progress:
+            from dask.distributed import progress as dask_progress
+
+            dask_progress(futures)
+        return client.gather(futures)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()

@@ -1,0 +1,393 @@
+"""Scenes: a burial scene described once (TOML or Python), validated, and run to one Dataset.
+
+A scene names its lithology, burial path, diagenetic parameters, materials, petro-elastic models
+and output variables. :func:`run_scene` evaluates exactly that — a shale scene never touches the
+quartz-cement kinetics, one model asked means one model computed, nothing imports numba — and
+returns an ``xarray.Dataset`` (dimension ``depth``, plus ``model`` for model-dependent variables
+and one dimension per swept parameter). :func:`write_dataset` writes it atomically.
+
+The schema, with every default and unit, is :data:`SCHEMA`; ``rockcem scenes`` lists the shipped
+scenes (``datasets/scenes/``). See ``datasets/scenes/carcione2022_sandstone.toml`` for a full
+example.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import itertools
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ._data import data_path
+
+__all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "shipped_scenes", "run_scene",
+           "write_dataset", "MODEL_OUTPUTS", "STATE_OUTPUTS"]
+
+_REQUIRED = object()
+
+#: Every scene key: ``{section: {key: (default, type, unit, description)}}``; ``_REQUIRED``
+#: marks keys without a default; type is "number", "integer", "string" or "strings". The ``models`` section holds one table per model label.
+SCHEMA: dict[str, dict[str, tuple]] = {
+    "scene": {
+        "name": (_REQUIRED, "string", "", "scene name (used for the default output file)"),
+        "description": ("", "string", "", "free text"),
+        "lithology": (_REQUIRED, "string", "", "'sandstone' or 'shale'"),
+        "outputs": (None, "strings", "", "variables to compute and write (default: all for the lithology)"),
+        "output": (None, "string", "", "netCDF file to write (default: <name>.nc)"),
+    },
+    "path": {
+        "kind": ("linear", "string", "", "'linear': the linear basin model of Carcione et al. 2022, eq. 2"),
+        "gradient": (30.0, "number", "degC/km", "geothermal gradient G"),
+        "sedimentation_rate": (40.0, "number", "m/Myr", "burial rate S (or give heating_rate)"),
+        "heating_rate": (None, "number", "degC/Myr", "H = G S; if given, S = H / G"),
+        "surface_temperature": (15.0, "number", "degC", "T0"),
+        "max_depth": (5000.0, "number", "m", "deepest depth of the profile"),
+        "depth_step": (10.0, "number", "m", "depth resolution of the profile"),
+    },
+    "pressure": {
+        "sediment_density": (2.5, "number", "g/cm3", "mean sediment density for the lithostatic pressure"),
+        "water_density": (1.04, "number", "g/cm3", "water density for the hydrostatic pressure"),
+    },
+    "sandstone": {
+        "porosity0": (0.36, "number", "1", "initial (critical) porosity"),
+        "grain_size": (0.3, "number", "mm", "grain diameter D"),
+        "quartz_fraction": (0.65, "number", "1", "detrital quartz fraction f"),
+        "clay_coating": (0.0, "number", "1", "clay-coating factor"),
+        "igv_final": (0.2, "number", "1", "IGV at infinite effective pressure"),
+        "beta": (0.01, "number", "1/MPa", "compaction coefficient of eq. B.7"),
+        "start_temperature": (None, "number", "degC", "no quartz cement below this temperature"),
+    },
+    "shale": {
+        "porosity0": (0.35, "number", "1", "porosity at zero effective pressure (Athy)"),
+        "beta": (0.01, "number", "1/MPa", "Athy coefficient"),
+        "r0": (0.99, "number", "1", "initial smectite fraction of the clay"),
+        "order": (5.0, "number", "", "reaction order n"),
+        "activation_energy": (36.0, "number", "kcal/mol", "E"),
+        "frequency_factor": (1.217e23, "number", "1/Myr", "c"),
+    },
+    "materials": {
+        "grain": ("quartz", "string", "", "sandstone grain mineral (catalogue name)"),
+        "cement": ("quartz_cement", "string", "", "sandstone cement mineral"),
+        "smectite": ("smectite", "string", "", "shale smectite mineral"),
+        "illite": ("illite", "string", "", "shale illite mineral"),
+        "fluid": ("water", "string", "", "pore fluid"),
+    },
+    "models.hs_gassmann": {
+        "A": (3.0, "number", "", "Krief exponent"),
+    },
+    "models.self_consistent": {
+        "aspect_ratio": (_REQUIRED, "number", "", "pore aspect ratio (0.17 shale, 0.108 sandstone)"),
+        "tol": (1e-12, "number", "", "Newton tolerance"),
+    },
+    "models.generalized_gassmann": {
+        "A": (3.0, "number", "", "Krief exponent"),
+    },
+    "models.patchy_cement": {
+        "coordination_number": (9.0, "number", "", "C"),
+        "contact_cement_limit": (0.05, "number", "1", "phi_p0, most cement at contacts"),
+        "delta": (100.0, "number", "MPa", "bonding pre-stress"),
+        "scheme": (1, "integer", "", "1: cement at contacts (eq. 16), 2: coating (eq. 18)"),
+        "thickness": (0.0, "number", "1", "MCCT contact thickness"),
+        "f": (1.0, "number", "1", "Hertz-Mindlin no-slip fraction"),
+    },
+}
+
+_TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "models", "sweep"}
+MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement")
+#: Variables that depend on the petro-elastic model (dimension ``model``).
+MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
+#: Variables of the rock state, per lithology.
+STATE_OUTPUTS = {
+    "sandstone": ("time", "temperature", "pressure_confining", "pressure_pore",
+                  "pressure_effective", "porosity", "cement_fraction", "intergranular_volume",
+                  "pore_filled", "density"),
+    "shale": ("time", "temperature", "pressure_confining", "pressure_pore", "pressure_effective",
+              "porosity", "smectite_fraction", "illite_fraction", "density"),
+}
+_SWEEP_UNITS = {"gradient": "degC km-1", "sedimentation_rate": "m Myr-1",
+                "heating_rate": "degC Myr-1", "surface_temperature": "degree_Celsius",
+                "grain_size": "mm", "delta": "MPa", "aspect_ratio": "1", "thickness": "1",
+                "quartz_fraction": "1", "clay_coating": "1", "porosity0": "1", "scheme": "1"}
+
+
+def _suggest(key, valid):
+    close = difflib.get_close_matches(key, list(valid), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else f" (valid: {', '.join(sorted(valid))})"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: ``sections`` maps each schema section to its complete parameters
+    (defaults filled in); ``sweep`` maps ``"section.key"`` to the values to sweep; ``text`` is the
+    scene as TOML."""
+
+    name: str
+    lithology: str
+    outputs: tuple
+    output: str
+    models: tuple
+    sections: dict
+    sweep: dict
+    text: str
+    description: str = ""
+
+    def replace(self, **params) -> Scene:
+        """A copy with parameters changed, keys as ``"section.key"`` (``"path.gradient"``); the
+        sweep is kept."""
+        return self._with(params, keep_sweep=True)
+
+    def _with(self, params, *, keep_sweep):
+        raw = copy.deepcopy(self._raw())
+        for dotted, value in params.items():
+            *where, key = dotted.split(".")
+            table = raw
+            for part in where:
+                table = table.setdefault(part, {})
+            table[key] = value
+        if not keep_sweep:
+            raw.pop("sweep", None)
+        text = None if params or not keep_sweep else self.text
+        return scene_from_dict(raw, text=text)
+
+    def _raw(self) -> dict:
+        return tomllib.loads(self.text)
+
+
+def _check_value(where, key, value, kind):
+    """Check one value against its schema type; numbers come back as float."""
+    if value is None:
+        return None
+    if kind == "number":
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        value = float(value) if ok else value
+        if ok and not np.isfinite(value):
+            raise ValueError(f"scene key {where}.{key} must be finite; got {value!r}")
+    elif kind == "integer":
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif kind == "string":
+        ok = isinstance(value, str)
+    else:
+        ok = isinstance(value, list) and all(isinstance(v, str) for v in value)
+    if not ok:
+        name = {"strings": "list of names"}.get(kind, kind)
+        raise ValueError(f"scene key {where}.{key} must be a {name}; got {value!r}")
+    return value
+
+
+def _section(where, given, schema):
+    if not isinstance(given, dict):
+        raise ValueError(f"scene section [{where}] must be a table")
+    unknown = [k for k in given if k not in schema]
+    if unknown:
+        raise ValueError(f"unknown scene key {where}.{unknown[0]}{_suggest(unknown[0], schema)}")
+    out = {}
+    for key, (default, kind, _unit, doc) in schema.items():
+        if key in given:
+            out[key] = _check_value(where, key, given[key], kind)
+        elif default is _REQUIRED:
+            raise ValueError(f"scene key {where}.{key} is required ({doc})")
+        else:
+            out[key] = default
+    return out
+
+
+def scene_from_dict(raw: dict, *, text: str | None = None) -> Scene:
+    """Validate a scene given as a dict (the parsed TOML) and fill in the defaults.
+
+    Raises ``ValueError`` naming the offending key, with the closest valid name for a typo.
+    """
+    if not isinstance(raw, dict):
+        raise ValueError("a scene must be a table of keys")
+    top = {k: v for k, v in raw.items() if k not in _TOP_SECTIONS}
+    for k in raw:
+        if k not in _TOP_SECTIONS and k not in SCHEMA["scene"]:
+            raise ValueError(f"unknown scene key {k!r}"
+                             f"{_suggest(k, set(SCHEMA['scene']) | _TOP_SECTIONS)}")
+    head = _section("scene", top, SCHEMA["scene"])
+    lithology = head["lithology"]
+    if lithology not in ("sandstone", "shale"):
+        raise ValueError(f"scene key lithology must be 'sandstone' or 'shale'; got {lithology!r}")
+    sections = {name: _section(name, raw.get(name, {}), SCHEMA[name])
+                for name in ("path", "pressure", "materials")}
+    sections[lithology] = _section(lithology, raw.get(lithology, {}), SCHEMA[lithology])
+    other = "shale" if lithology == "sandstone" else "sandstone"
+    if other in raw:
+        raise ValueError(f"scene section [{other}] does not apply to lithology {lithology!r}")
+    models_raw = raw.get("models", {})
+    if not isinstance(models_raw, dict):
+        raise ValueError("scene section [models] must hold one table per model")
+    for label in models_raw:
+        if label not in MODEL_LABELS:
+            raise ValueError(f"unknown model {label!r}{_suggest(label, MODEL_LABELS)}")
+    if lithology == "shale" and "patchy_cement" in models_raw:
+        raise ValueError("model 'patchy_cement' (Model 4) needs cement: sandstone scenes only")
+    models = tuple(label for label in MODEL_LABELS if label in models_raw)
+    for label in models:
+        sections[f"models.{label}"] = _section(f"models.{label}", models_raw[label],
+                                               SCHEMA[f"models.{label}"])
+    if sections["path"]["kind"] != "linear":
+        raise ValueError("scene key path.kind must be 'linear' (the linear basin model)")
+    valid_outputs = STATE_OUTPUTS[lithology] + (MODEL_OUTPUTS if models else ())
+    outputs = head["outputs"]
+    if outputs is None:
+        outputs = list(valid_outputs)
+    for name in outputs:
+        if name not in valid_outputs:
+            hint = (" (model outputs need at least one model in [models])"
+                    if name in MODEL_OUTPUTS else _suggest(name, valid_outputs))
+            raise ValueError(f"scene output {name!r} is not available for this scene{hint}")
+    sweep = _validate_sweep(raw.get("sweep", {}), sections)
+    from . import materials
+
+    for key in ("grain", "cement", "fluid") if lithology == "sandstone" else \
+            ("smectite", "illite", "fluid"):
+        name = sections["materials"][key]
+        try:
+            (materials.fluid if key == "fluid" else materials.mineral)(name)
+        except ValueError as exc:
+            raise ValueError(f"scene key materials.{key}: {exc}") from None
+    if text is None:
+        text = _to_toml(raw)
+    return Scene(head["name"], lithology, tuple(outputs), head["output"] or f"{head['name']}.nc",
+                 models, sections, sweep, text, head["description"])
+
+
+def _validate_sweep(sweep, sections):
+    if not isinstance(sweep, dict):
+        raise ValueError("scene section [sweep] must map 'section.key' to a list of values")
+    out = {}
+    names = set()
+    for dotted, values in sweep.items():
+        section, _, key = dotted.rpartition(".")
+        if section not in sections or key not in sections[section]:
+            valid = [f"{s}.{k}" for s in sections for k in sections[s]]
+            raise ValueError(f"unknown sweep parameter {dotted!r}{_suggest(dotted, valid)}")
+        if not isinstance(values, list) or not values:
+            raise ValueError(f"sweep {dotted} must be a non-empty list of values")
+        kind = SCHEMA[section][key][1]
+        values = [_check_value(section, key, v, kind) for v in values]
+        if key in names:
+            raise ValueError(f"two swept parameters share the name {key!r}")
+        names.add(key)
+        out[dotted] = values
+    return out
+
+
+def _toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise ValueError(f"cannot write {v!r} as TOML")
+
+
+def _to_toml(raw: dict) -> str:
+    """Minimal TOML writer for scene dicts (scalars, lists, nested tables)."""
+    lines = [f"{k} = {_toml_value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
+
+    def table(prefix, d):
+        scal = [f"{json.dumps(k) if '.' in k else k} = {_toml_value(v)}" for k, v in d.items()
+                if not isinstance(v, dict)]
+        if scal or not any(isinstance(v, dict) for v in d.values()):
+            lines.extend(["", f"[{prefix}]", *scal])
+        for k, v in d.items():
+            if isinstance(v, dict):
+                table(f"{prefix}.{k}", v)
+
+    for k, v in raw.items():
+        if isinstance(v, dict):
+            table(k, v)
+    return "\n".join(lines) + "\n"
+
+
+def load_scene(source) -> Scene:
+    """Load and validate a scene from a TOML file path or the name of a shipped scene."""
+    path = Path(source)
+    if not path.suffix and not path.exists():
+        shipped = shipped_scenes()
+        if str(source) not in shipped:
+            raise ValueError(f"no scene file {source!r} and no shipped scene of that name"
+                             f"{_suggest(str(source), shipped)}")
+        path = shipped[str(source)]
+    if not path.is_file():
+        raise ValueError(f"scene file {str(source)!r} not found")
+    text = path.read_text()
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"scene file {path.name} is not valid TOML: {exc}") from None
+    return scene_from_dict(raw, text=text)
+
+
+def shipped_scenes() -> dict[str, Path]:
+    """The scenes shipped in ``datasets/scenes/``: ``{name: path}``."""
+    folder = data_path("scenes")
+    return {p.stem: p for p in sorted(folder.glob("*.toml"))}
+
+
+# ----------------------------------------------------------------------------- running
+def _member_dataset(scene: Scene):
+    """Run one scene (no sweep) and return its Dataset."""
+    from .runner import evaluate
+
+    return evaluate(scene)
+
+
+def run_scene(scene: Scene, *, scheduler=None, progress=False):
+    """Run a scene: burial → rock state → models → one ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    scene : Scene
+        From :func:`load_scene` or :func:`scene_from_dict`.
+    scheduler : None, "local" or str, keyword-only
+        Where to run the members of a sweep: ``None`` serially in this process; ``"local"`` on a
+        new ``dask.distributed.LocalCluster``; any other string is the address of an existing
+        dask scheduler (``"tcp://host:8786"``). Needs the ``dask`` extra.
+    progress : bool, keyword-only
+        Show a progress bar over the sweep members.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    from .runner import run
+
+    return run(scene, scheduler=scheduler, progress=progress)
+
+
+def write_dataset(ds, path) -> Path:
+    """Write a Dataset to netCDF (netCDF4 engine) atomically: temporary file, then rename."""
+    import os
+    import tempfile
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def _sweep_members(scene: Scene):
+    """(coords, scene) for every combination of swept values."""
+    keys = list(scene.sweep)
+    for combo in itertools.product(*(scene.sweep[k] for k in keys)):
+        coords = {k.rpartition(".")[2]: v for k, v in zip(keys, combo)}
+        yield coords, (scene._with(dict(zip(keys, combo)), keep_sweep=False) if keys else scene)
+

@@ -1,0 +1,212 @@
+"""Scenes: schema validation, the runner, netCDF output, sweeps and the paper's statements."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rockcem.scene import load_scene, run_scene, scene_from_dict, shipped_scenes, write_dataset
+
+SANDSTONE = {"name": "t", "lithology": "sandstone",
+             "path": {"max_depth": 4000.0, "depth_step": 100.0},
+             "models": {"hs_gassmann": {}, "patchy_cement": {}}}
+
+
+def coarse(name, step=50.0):
+    """A shipped scene at a coarser depth step, to keep the tests fast."""
+    return load_scene(name).replace(**{"path.depth_step": step})
+
+
+@pytest.mark.parametrize("name", sorted(shipped_scenes()))
+def test_shipped_scenes_validate(name):
+    s = load_scene(name)
+    assert s.name == name and s.outputs
+
+
+# --- the paper's statements ---------------------------------------------------------------------
+def test_carcione2022_sandstone_statements():
+    ds = run_scene(coarse("carcione2022_sandstone"))
+    assert list(ds.model.values) == ["hs_gassmann", "self_consistent", "generalized_gassmann",
+                                     "patchy_cement"]
+    # Velocities and density increase with depth (Sect. 6.2, Fig. 16).
+    assert np.all(np.diff(ds.density) >= -1e-12)
+    assert np.all(ds.vp.diff("depth") > -1e-9) and np.all(ds.vs.diff("depth") > -1e-9)
+    # Models 1 and 3 nearly coincide; all models within a few hundred m/s.
+    m1, m3 = ds.vp.sel(model="hs_gassmann"), ds.vp.sel(model="generalized_gassmann")
+    assert float(abs(m1 - m3).max()) < 0.02
+    assert float((ds.vp.max("model") - ds.vp.min("model")).max()) < 0.5
+
+
+def test_carcione2022_shale_statements():
+    ds = run_scene(coarse("carcione2022_shale"))
+    assert ds.sizes["gradient"] == 2
+    assert np.all(ds.vp.diff("depth") > 0) and np.all(ds.density.diff("depth") > 0)
+    m1 = ds.vp.sel(model="hs_gassmann")
+    m3 = ds.vp.sel(model="generalized_gassmann")
+    assert float(abs(m1 - m3).max()) < 0.05
+    # Lower gradient: more smectite, lower velocities (Fig. 12).
+    deep = ds.depth > 1000
+    lo, hi = ds.sel(gradient=20.0), ds.sel(gradient=30.0)
+    assert np.all((lo.smectite_fraction > hi.smectite_fraction)[deep.values])
+    assert np.all((lo.vp < hi.vp).values[:, deep.values])
+
+
+def test_carcione2022_fig18_gradients_and_fig19_cement_location():
+    ds = run_scene(coarse("carcione2022_sandstone_gradients"))
+    lo, hi = ds.sel(gradient=20.0), ds.sel(gradient=30.0)
+    assert np.all((lo.vp <= hi.vp + 1e-9).values)
+    loc = run_scene(coarse("carcione2022_sandstone_cement_location"))
+    diff = abs(loc.vp.sel(scheme=1) - loc.vp.sel(scheme=2)) / loc.vp.sel(scheme=1)
+    assert float(diff.max()) < 0.08            # "the differences are minimal in practice"
+
+
+def test_carcione2022_fig15_heating_rates():
+    ds = run_scene(coarse("carcione2022_sandstone_heating_rates", 100.0))
+    c = ds.cement_fraction.sel(depth=3000.0)
+    assert float(c.sel(heating_rate=0.4)) > float(c.sel(heating_rate=1.2)) \
+        > float(c.sel(heating_rate=2.0))
+    assert float(ds.time.sel(depth=3000.0, heating_rate=0.4)) == pytest.approx(225.0)
+
+
+# --- output -------------------------------------------------------------------------------------
+def test_netcdf_round_trip(tmp_path):
+    ds = run_scene(scene_from_dict(SANDSTONE))
+    path = write_dataset(ds, tmp_path / "out.nc")
+    back = xr.load_dataset(path, engine="netcdf4")
+    xr.testing.assert_identical(ds, back)
+    assert back.attrs["Conventions"].startswith("CF")
+    assert "lithology" in back.attrs["scene_toml"]
+    assert back.vp.attrs["units"] == "km s-1" and back.depth.attrs["positive"] == "down"
+    assert back.time.attrs["units"] == "Myr"
+    again = scene_from_dict(__import__("tomllib").loads(back.attrs["scene_toml"]))
+    assert again.sections == scene_from_dict(SANDSTONE).sections
+
+
+def test_write_is_atomic(tmp_path, monkeypatch):
+    target = tmp_path / "out.nc"
+    target.write_bytes(b"previous result")
+    ds = run_scene(scene_from_dict(SANDSTONE))
+
+    def broken(self, path, **kw):
+        with open(path, "wb") as fh:
+            fh.write(b"half")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", broken)
+    with pytest.raises(OSError):
+        write_dataset(ds, target)
+    assert target.read_bytes() == b"previous result"
+    assert os.listdir(tmp_path) == ["out.nc"]
+
+
+def test_sweep_dimensions_and_plotting():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    raw = dict(SANDSTONE, sweep={"path.gradient": [20.0, 25.0, 30.0],
+                                 "models.patchy_cement.delta": [40.0, 100.0]})
+    ds = run_scene(scene_from_dict(raw))
+    assert dict(ds.sizes) == {"depth": 41, "model": 2, "gradient": 3, "delta": 2}
+    one = run_scene(scene_from_dict(dict(SANDSTONE, path={**SANDSTONE["path"], "gradient": 25.0},
+                                         models={"patchy_cement": {"delta": 40.0}})))
+    np.testing.assert_allclose(ds.vp.sel(gradient=25.0, delta=40.0, model="patchy_cement"),
+                               one.vp.sel(model="patchy_cement"), rtol=1e-13)
+    ds.vp.sel(model="hs_gassmann", gradient=20.0, delta=40.0).plot(y="depth", yincrease=False)
+
+
+# --- compute only what is asked -----------------------------------------------------------------
+def test_shale_scene_never_runs_cement_kinetics(monkeypatch):
+    import burial
+
+    def forbidden(*a, **k):
+        raise AssertionError("quartz cement kinetics called by a shale scene")
+
+    monkeypatch.setattr(burial, "quartz_cement", forbidden)
+    ds = run_scene(coarse("carcione2022_shale", 200.0))
+    assert "vp" in ds
+
+
+def test_one_model_asked_one_model_computed(monkeypatch):
+    from rockcem import models
+
+    called = []
+    for name in ("hs_gassmann", "self_consistent_model", "generalized_gassmann_model",
+                 "patchy_cement_model"):
+        fn = getattr(models, name)
+        monkeypatch.setattr(models, name,
+                            lambda *a, _f=fn, _n=name, **k: called.append(_n) or _f(*a, **k))
+    ds = run_scene(scene_from_dict(dict(SANDSTONE, models={"hs_gassmann": {}})))
+    assert called == ["hs_gassmann"] and list(ds.model.values) == ["hs_gassmann"]
+    called.clear()
+    ds = run_scene(scene_from_dict(dict(SANDSTONE, outputs=["temperature"])))
+    assert called == [] and list(ds.data_vars) == ["temperature"]
+
+
+def test_scene_run_imports_no_numba():
+    code = ("import sys; from rockcem.scene import load_scene, run_scene; "
+            "run_scene(load_scene('carcione2022_sandstone').replace(**{'path.depth_step': 500.0}));"
+            " print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+# --- bad scenes ---------------------------------------------------------------------------------
+BAD = [
+    ({"litology": "sandstone"}, "did you mean 'lithology'"),
+    ({"path": {"gradiant": 30.0}}, "did you mean 'gradient'"),
+    ({"path": {"gradient": "thirty"}}, "path.gradient must be a number"),
+    ({"path": {"gradient": -30.0}}, "gradient"),
+    ({"materials": {"grain": "quarz"}}, "did you mean 'quartz'"),
+    ({"models": {"hs_gasmann": {}}}, "did you mean 'hs_gassmann'"),
+    ({"models": {"self_consistent": {}}}, "aspect_ratio is required"),
+    ({"outputs": ["vp", "porosty"]}, "did you mean 'porosity'"),
+    ({"lithology": "limestone"}, "sandstone' or 'shale"),
+    ({"sweep": {"path.gradiant": [20.0]}}, "did you mean 'path.gradient'"),
+    ({"sandstone": {"grain_size": 0.0}}, "grain_size"),
+    ({"name": None}, "required"),
+]
+
+
+@pytest.mark.parametrize("change,message", BAD)
+def test_bad_scene(change, message, tmp_path, run_cli):
+    raw = {**SANDSTONE, **change}
+    raw = {k: v for k, v in raw.items() if v is not None}
+    if "litology" in change:
+        raw.pop("lithology")
+    with pytest.raises(ValueError, match=message):
+        run_scene(scene_from_dict(raw))
+    # From the command line: exit code 2, one line, no traceback, no output file.
+    scene_file = tmp_path / "bad.toml"
+    from rockcem.scene import _to_toml
+
+    scene_file.write_text(_to_toml(raw))
+    out = run_cli(["run", str(scene_file), "-q"], tmp_path)
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert sorted(os.listdir(tmp_path)) == ["bad.toml"]
+
+
+def test_not_toml(tmp_path):
+    bad = tmp_path / "x.toml"
+    bad.write_text("name = [unclosed")
+    with pytest.raises(ValueError, match="not valid TOML"):
+        load_scene(bad)
+
+
+def test_cli_demo_writes_file_and_figure(tmp_path, run_cli):
+    out = run_cli(["demo", "-q"], tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "carcione2022_sandstone.nc").exists()
+    ds = xr.load_dataset(tmp_path / "carcione2022_sandstone.nc")
+    assert ds.sizes["depth"] == 6001 and ds.sizes["model"] == 4
+
+
+def test_cli_run_output_option_and_scenes(tmp_path, run_cli):
+    out = run_cli(["run", "carcione2022_sandstone_heating_rates", "-o", "h.nc"], tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert "wrote h.nc" in out.stdout and (tmp_path / "h.nc").exists()
+    listing = run_cli(["scenes"], tmp_path)
+    assert all(name in listing.stdout for name in shipped_scenes())
