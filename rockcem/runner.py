@@ -228,36 +228,46 @@ def evaluate(scene):
     return ds
 
 
-def _run_member(args):
-    coords, member = args
-    ds = evaluate(member)
-    return coords, ds
+def _run_chunk(chunk):
+    """Evaluate a list of (index, coords, scene) sweep members (one task on a worker)."""
+    return [(index, evaluate(member)) for index, _coords, member in chunk]
 
 
 def run(scene, *, scheduler=None, progress=False):
-    """Run a scene and its sweep (serially, or on dask.distributed)."""
+    """Run a scene and its sweep (serially, or on dask.distributed in chunks of members)."""
     import xarray as xr
 
     from .scene import _sweep_members
 
-    members = list(_sweep_members(scene))
     if not scene.sweep:
         return evaluate(scene)
+    dims = [k.rpartition(".")[2] for k in scene.sweep]
+    values = [scene.sweep[k] for k in scene.sweep]
+    members = [(index, coords, member) for index, (coords, member)
+               in zip(np.ndindex(*[len(v) for v in values]), _sweep_members(scene))]
     if scheduler is None:
         from tqdm.auto import tqdm
 
-        results = [_run_member(m) for m in tqdm(members, desc=scene.name, disable=not progress,
-                                                 unit="member")]
+        results = [(index, evaluate(member)) for index, _c, member
+                   in tqdm(members, desc=scene.name, disable=not progress, unit="member")]
     else:
         results = _run_dask(members, scheduler, progress)
-    parts = []
-    for coords, ds in results:
-        ds = ds.expand_dims({k: [v] for k, v in coords.items()})
-        parts.append(ds)
-    out = xr.combine_by_coords(parts, combine_attrs="override")
-    for key in coords:
-        unit = _sweep_unit(key)
-        out[key].attrs.update({"units": unit, "long_name": f"swept {key.replace('_', ' ')}"})
+    # The sweep is a full Cartesian product: fill one array per variable directly (much faster
+    # than concatenating a Dataset per member).
+    template = results[0][1]
+    shape = tuple(len(v) for v in values)
+    data = {}
+    for name, var in template.data_vars.items():
+        arr = np.empty(shape + var.shape, dtype=var.dtype)
+        for index, ds in results:
+            arr[index] = ds[name].values
+        data[name] = xr.Variable(tuple(dims) + var.dims, arr, attrs=var.attrs)
+    coords = dict(template.coords)
+    for key, vals in zip(dims, values):
+        coords[key] = xr.Variable((key,), np.asarray(vals),
+                                  attrs={"units": _sweep_unit(key),
+                                         "long_name": f"swept {key.replace('_', ' ')}"})
+    out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
     out.attrs["scene_toml"] = scene.text
     return out
@@ -283,12 +293,15 @@ def _run_dask(members, scheduler, progress):
     else:
         client = Client(scheduler)
     try:
-        futures = client.map(_run_member, members, pure=False)
+        n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
+        n_chunks = min(len(members), 8 * n_workers)
+        chunks = [list(c) for c in np.array_split(np.arange(len(members)), n_chunks)]
+        futures = client.map(_run_chunk, [[members[i] for i in c] for c in chunks], pure=False)
         if progress:
             from dask.distributed import progress as dask_progress
 
             dask_progress(futures)
-        return client.gather(futures)
+        return [item for part in client.gather(futures) for item in part]
     finally:
         client.close()
         if cluster is not None:

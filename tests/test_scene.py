@@ -210,3 +210,14 @@ def test_cli_run_output_option_and_scenes(tmp_path, run_cli):
     assert "wrote h.nc" in out.stdout and (tmp_path / "h.nc").exists()
     listing = run_cli(["scenes"], tmp_path)
     assert all(name in listing.stdout for name in shipped_scenes())
+
+
+def test_sweep_on_a_real_local_dask_cluster():
+    """A sweep run on a dask.distributed LocalCluster equals the serial run."""
+    pytest.importorskip("dask.distributed")
+    raw = dict(SANDSTONE, sweep={"path.gradient": [20.0, 30.0], "sandstone.grain_size": [0.2, 0.4]})
+    scene = scene_from_dict(raw)
+    serial = run_scene(scene)
+    parallel = run_scene(scene, scheduler="local")
+    xr.testing.assert_allclose(serial.drop_attrs(), parallel.drop_attrs(), rtol=1e-14)
+    assert dict(parallel.sizes) == {"depth": 41, "model": 2, "gradient": 2, "grain_size": 2}
