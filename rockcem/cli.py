@@ -88,6 +88,18 @@ def _scenes(args) -> int:
     return 0
 
 
+def _schema(args) -> int:
+    from .scene import _REQUIRED, SCHEMA
+
+    for section, keys in SCHEMA.items():
+        print(f"[{section}]" if section != "scene" else "(top level)")
+        for key, (default, kind, unit, doc) in keys.items():
+            shown = "required" if default is _REQUIRED else repr(default)
+            print(f"  {key:<22} {kind:<8} {unit:<10} default {shown:<14} {doc}")
+    print("[sweep]\n  \"section.key\" = [values, ...]  one dimension per swept parameter")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
 
@@ -98,6 +110,8 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_materials)
     p = sub.add_parser("scenes", help="list the shipped scenes")
     p.set_defaults(func=_scenes)
+    p = sub.add_parser("schema", help="list every scene key with its type, unit and default")
+    p.set_defaults(func=_schema)
     p = sub.add_parser("run", help="run a scene (a TOML file or a shipped scene name)")
     p.add_argument("scene", help="scene file or shipped scene name (see `rockcem scenes`)")
     p.add_argument("-o", "--output", help="netCDF file to write (default: the scene's output)")
