@@ -222,7 +222,6 @@ def evaluate(scene):
         coords["model"] = (("model",), np.array(scene.models, dtype=object))
     ds = build_dataset(data, coords, _global_attrs(scene))
     if "model" in ds.coords:
-        ds["model"].attrs["long_name"] = "petro-elastic model"
         ds["model"].attrs["description"] = "; ".join(
             f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
     return ds
@@ -264,19 +263,21 @@ def run(scene, *, scheduler=None, progress=False):
         data[name] = xr.Variable(tuple(dims) + var.dims, arr, attrs=var.attrs)
     coords = dict(template.coords)
     for key, vals in zip(dims, values):
-        coords[key] = xr.Variable((key,), np.asarray(vals),
-                                  attrs={"units": _sweep_unit(key),
-                                         "long_name": f"swept {key.replace('_', ' ')}"})
+        coords[key] = xr.Variable((key,), np.asarray(vals), attrs=_sweep_attrs(key))
     out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
     out.attrs["scene_toml"] = scene.text
     return out
 
 
-def _sweep_unit(key):
-    from .scene import _SWEEP_UNITS
+def _sweep_attrs(key):
+    """CF attributes of a swept parameter, from the variable registry."""
+    from .variables import variable_attrs
 
-    return _SWEEP_UNITS.get(key, "1")
+    try:
+        return variable_attrs(key)
+    except ValueError:
+        return {"long_name": key.replace("_", " ")}
 
 
 def _run_dask(members, scheduler, progress):

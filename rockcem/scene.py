@@ -109,10 +109,6 @@ STATE_OUTPUTS = {
     "shale": ("time", "temperature", "pressure_confining", "pressure_pore", "pressure_effective",
               "porosity", "smectite_fraction", "illite_fraction", "density"),
 }
-_SWEEP_UNITS = {"gradient": "degC km-1", "sedimentation_rate": "m Myr-1",
-                "heating_rate": "degC Myr-1", "surface_temperature": "degree_Celsius",
-                "grain_size": "mm", "delta": "MPa", "aspect_ratio": "1", "thickness": "1",
-                "quartz_fraction": "1", "clay_coating": "1", "porosity0": "1", "scheme": "1"}
 
 
 def _suggest(key, valid):

@@ -1,0 +1,23 @@
+"""Figures of scene results: depth trends, velocity–porosity with the contact-model family, and
+the rock-physics template (acoustic impedance against Vp/Vs).
+
+Every axis is labelled with the quantity and its unit from the variable registry
+(:func:`rockcem.variables.variable_attrs`), written one way throughout: the ``long_name`` without
+its parenthetical remarks, capitalised, and the UDUNITS string in readable form — ``km s-1`` as
+``km/s``, ``g cm-3`` as ``g/cm³``, ``degree_Celsius`` as ``°C`` and ``1`` (a fraction or ratio)
+as ``–``. So ``vp`` is labelled "P-wave velocity (km/s)".
+
+Models have fixed colours (Okabe–Ito, safe for colour-blind readers) and fixed legend labels, so
+the same model looks the same in every figure. Importing this module imports neither matplotlib
+nor xarray; :mod:`matplotlib.pyplot` is imported inside the functions.
+"""
+
+from __future__ import annotations
+
+from ._save import save_figure
+from ._style import MODEL_LABELS
+from .depth import depth_trends
+from .templates import rock_physics_template, velocity_porosity
+
+__all__ = ["MODEL_LABELS", "depth_trends", "velocity_porosity", "rock_physics_template",
+           "save_figure"]

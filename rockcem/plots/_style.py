@@ -1,0 +1,189 @@
+"""Shared style of the rockcem figures: labels with units, model colours, figure set-up."""
+
+from __future__ import annotations
+
+import difflib
+import re
+import textwrap
+
+import numpy as np
+
+from ..variables import variable_attrs
+
+
+#: Legend label of each petro-elastic model, by its label in the ``model`` coordinate.
+MODEL_LABELS = {
+    "hs_gassmann": "Model 1 (HS–Krief–Gassmann)",
+    "self_consistent": "Model 2 (self-consistent)",
+    "generalized_gassmann": "Model 3 (generalized Gassmann)",
+    "patchy_cement": "Model 4 (patchy cement)",
+}
+_MODEL_COLOURS = {"hs_gassmann": "#0072B2", "self_consistent": "#D55E00",
+                  "generalized_gassmann": "#009E73", "patchy_cement": "#CC79A7"}
+_EXTRA_COLOURS = ("#E69F00", "#56B4E9", "#F0E442", "#000000")
+_MODEL_MARKERS = {"hs_gassmann": "o", "self_consistent": "s", "generalized_gassmann": "^",
+                  "patchy_cement": "D"}
+_EXTRA_MARKERS = ("v", "P", "X", "*")
+_INK = "#262626"                      # model-independent lines and template lines
+_LINESTYLES = ("-", "--", "-.", ":", (0, (5, 1.5, 1, 1.5, 1, 1.5)), (0, (1, 1)))
+_DEFAULT_TRENDS = ("porosity", "cement_fraction", "illite_fraction", "density", "vp", "vs")
+_SUFFIX_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+#: Derived quantities that are not variables of a scene Dataset.
+_DERIVED = {
+    "acoustic_impedance": {"units": "km s-1 g cm-3", "long_name": "acoustic impedance"},
+    "vp_vs": {"units": "1", "long_name": "Vp/Vs"},
+}
+
+_RC = {
+    "font.size": 9.0, "axes.labelsize": 9.0, "axes.titlesize": 9.0, "legend.fontsize": 8.0,
+    "xtick.labelsize": 8.0, "ytick.labelsize": 8.0, "axes.linewidth": 0.8,
+    "xtick.direction": "in", "ytick.direction": "in", "xtick.top": True, "ytick.right": True,
+    "lines.linewidth": 1.4, "legend.frameon": False, "savefig.dpi": 150,
+    "axes.grid": True, "grid.color": "0.88", "grid.linewidth": 0.6, "axes.axisbelow": True,
+}
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+_UNIT_NAMES = {"degree_Celsius": "°C", "degC": "°C", "celsius": "°C", "K": "K"}
+
+
+# ----------------------------------------------------------------------------- labels
+def _units_text(units: str) -> str:
+    """UDUNITS string -> readable text: ``km s-1`` -> ``km/s``, ``1`` -> ``–``."""
+    units = str(units).strip()
+    if units in ("", "1"):
+        return "–"
+    factors = []
+    for token in units.split():
+        m = re.fullmatch(r"([^\d\-+^]+)\^?([-+]?\d+)?", token)
+        if m is None:                       # not a plain product of powers: show it as it is
+            return units
+        factors.append((_UNIT_NAMES.get(m[1], m[1]), int(m[2] or 1)))
+    groups = []                             # a positive factor with the negative ones after it
+    for name, power in factors:
+        if power > 0 or not groups:
+            groups.append(([], []))
+        groups[-1][0 if power > 0 else 1].append((name, abs(power)))
+
+    def power_text(name, p):
+        return name + (str(p).translate(_SUPERSCRIPT) if p != 1 else "")
+
+    texts = []
+    for num, den in groups:
+        top = " ".join(power_text(*f) for f in num) or "1"
+        if len(den) == 1:
+            texts.append(f"{top}/{power_text(*den[0])}")
+        elif den:
+            texts.append(top + " " + " ".join(n + f"-{p}".translate(_SUPERSCRIPT) for n, p in den))
+        else:
+            texts.append(top)
+    if len(texts) > 1:
+        return "·".join(f"({t})" if "/" in t else t for t in texts)
+    return texts[0]
+
+
+def _attrs(name: str, ds=None) -> dict:
+    """Attributes of ``name``: the registry first, then derived quantities, then the Dataset."""
+    try:
+        return variable_attrs(name)
+    except ValueError:
+        if name in _DERIVED:
+            return dict(_DERIVED[name])
+        if ds is not None and name in ds.variables:
+            return dict(ds[name].attrs)
+        return {}
+
+
+def _label(name: str, ds=None, *, width: int | None = None) -> str:
+    """Axis label "Quantity (unit)" of a variable, wrapped to ``width`` characters."""
+    attrs = _attrs(name, ds)
+    quantity = re.sub(r"\s*\([^)]*\)", "", str(attrs.get("long_name", name.replace("_", " "))))
+    label = f"{_capital(quantity)} ({_units_text(attrs.get('units', '1'))})"
+    return textwrap.fill(label, width) if width else label
+
+
+def _model_label(model) -> str:
+    return MODEL_LABELS.get(str(model), str(model))
+
+
+def _model_colour(model, index: int) -> str:
+    return _MODEL_COLOURS.get(str(model), _EXTRA_COLOURS[index % len(_EXTRA_COLOURS)])
+
+
+def _model_marker(model, index: int) -> str:
+    return _MODEL_MARKERS.get(str(model), _EXTRA_MARKERS[index % len(_EXTRA_MARKERS)])
+
+
+def _shade(colour, index: int, count: int):
+    """``colour`` lightened towards white for the ``index``-th of ``count`` sweep values."""
+    from matplotlib.colors import to_rgb
+
+    t = 0.55 * index / (count - 1) if count > 1 else 0.0
+    return tuple(c + (1.0 - c) * t for c in to_rgb(colour))
+
+
+def _model_width(index: int, count: int) -> float:
+    """Line width of the ``index``-th of ``count`` models: wider first, so that models that
+    coincide (Models 1 and 3 nearly do) stay visible under one another."""
+    return 1.0 + 1.5 * (count - 1 - index) / (count - 1) if count > 1 else 1.4
+
+
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
+def _sweep_text(dim: str, value, ds) -> str:
+    """Legend text of one sweep value: the value and its unit (``25 °C/km``)."""
+    value = f"{value:g}" if isinstance(value, (int, float, np.number)) else str(value)
+    units = _attrs(dim, ds).get("units")
+    return f"{value} {_units_text(units)}" if units not in (None, "", "1") else value
+
+
+# ----------------------------------------------------------------------------- input checks
+def _check_dataset(ds, what="ds"):
+    if not (hasattr(ds, "data_vars") and hasattr(ds, "dims")):
+        raise ValueError(f"{what} must be an xarray.Dataset; got {type(ds).__name__}")
+    if "depth" not in ds.dims:
+        dims = ", ".join(map(str, ds.dims)) or "none"
+        raise ValueError(f"{what} has no 'depth' dimension (dimensions: {dims}); plots need the "
+                         "scene Dataset with depth as a dimension")
+
+
+def _require(ds, name: str, purpose: str):
+    if name not in ds.data_vars:
+        choices = list(map(str, ds.data_vars))
+        close = difflib.get_close_matches(name, choices, n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise ValueError(f"{purpose} needs the variable {name!r}, which is not in the "
+                         f"Dataset{hint} (variables: {', '.join(choices) or 'none'})")
+    return ds[name]
+
+
+def _material(value, kind: str, ds, attr: str):
+    from ..materials import Fluid, Mineral, fluid, mineral
+
+    if value is None:
+        if ds is None or attr not in ds.attrs:
+            raise ValueError(f"{attr} is not given and the Dataset has no attribute {attr!r}; "
+                             f"pass {attr}= (a catalogue name or a {kind})")
+        value = ds.attrs[attr]
+    if isinstance(value, str):
+        return mineral(value) if kind == "Mineral" else fluid(value)
+    if isinstance(value, Mineral if kind == "Mineral" else Fluid):
+        return value
+    raise ValueError(f"{attr} must be a catalogue name or a rockcem.materials.{kind}; "
+                     f"got {type(value).__name__}")
+
+
+def _figure(fig, figsize):
+    import matplotlib.pyplot as plt
+
+    if fig is None:
+        return plt.figure(figsize=figsize, layout="constrained")
+    if fig.axes:
+        raise ValueError("fig must be an empty matplotlib Figure (it already has axes)")
+    fig.set_layout_engine("constrained")
+    return fig
+
+
+# ----------------------------------------------------------------------------- depth trends

@@ -1,0 +1,334 @@
+"""Rock-physics templates: velocity against porosity with the contact-model family, and
+acoustic impedance against Vp/Vs with iso-porosity and iso-cement lines."""
+
+from __future__ import annotations
+
+import difflib
+
+import numpy as np
+
+from ._style import (_INK, _RC, _label, _model_label, _model_colour, _model_marker, _check_dataset,
+                     _require, _material, _figure)
+
+__all__ = ["velocity_porosity", "rock_physics_template"]
+
+
+def _depth_rows(da):
+    """Values of ``da`` as one row per sweep member along depth, rows separated by NaN."""
+    rows = da.transpose(..., "depth").values.reshape(-1, da.sizes["depth"])
+    rows = np.concatenate([rows, np.full((rows.shape[0], 1), np.nan)], axis=1)
+    return rows.ravel()[:-1]
+
+
+def _saturated(dry, grain, fluid, porosity):
+    """Velocities (km/s) of a dry frame saturated by Gassmann with the grain as the mineral."""
+    from ..elastic import velocities
+    from ..fluids import gassmann
+
+    K_sat = gassmann(dry.K, grain.K, fluid.K, porosity)
+    density = (1.0 - porosity) * grain.rho + porosity * fluid.rho
+    return velocities(K_sat, dry.G, density)
+
+
+def _contact_templates(grain, cement, fluid, pressure, coordination_number, critical_porosity):
+    """``{key: (label, porosity, Velocities)}`` of the contact-model family, brine-saturated."""
+    from ..granular import constant_cement, contact_cement, soft_sand, stiff_sand
+
+    phic, n = critical_porosity, coordination_number
+    phib = phic - 0.04
+    full = np.linspace(0.0, phic, 181)
+    cct = np.linspace(max(phic - 0.10, 0.0), phic, 61)   # CCT holds for a few per cent of cement
+    below_b = np.linspace(0.0, phib, 161)
+    g, c = grain, cement
+    dry = {
+        "soft_sand": ("Soft sand", full, soft_sand(g.K, g.G, full, phic, n, pressure)),
+        "stiff_sand": ("Stiff sand", full, stiff_sand(g.K, g.G, full, phic, n, pressure)),
+        "contact_cement": ("Contact cement", cct,
+                           contact_cement(g.K, g.G, c.K, c.G, cct, phic, n, scheme=1)),
+        "constant_cement": (f"Constant cement ($\\phi_b$ = {phib:.2f})", below_b,
+                            constant_cement(g.K, g.G, c.K, c.G, below_b, phic, n, phib, scheme=1)),
+    }
+    return {k: (label, phi, _saturated(m, grain, fluid, phi)) for k, (label, phi, m) in dry.items()}
+
+
+def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None, pressure=None,
+                      coordination_number=9.0, critical_porosity=None, fig=None):
+    r"""Velocity against porosity, per model, over the contact-model family of templates.
+
+    The templates are the dry-rock models of :mod:`rockcem.granular` — soft sand, stiff sand
+    (Hertz–Mindlin at the given pressure), contact cement (scheme 1, drawn from :math:`\phi_c`
+    down to :math:`\phi_c - 0.1`, the small cement amounts where its fits hold) and constant
+    cement at :math:`\phi_b = \phi_c - 0.04` — saturated by Gassmann
+    (:func:`rockcem.fluids.gassmann`) with the grain as the mineral, with density
+    :math:`(1-\phi)\rho_\mathrm{grain} + \phi\rho_\mathrm{fluid}` and velocities by
+    :func:`rockcem.elastic.velocities`. Each template line carries ``gid``
+    ``"template:<model>"`` (e.g. ``"template:soft_sand"``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset with ``porosity`` and the chosen velocity (optionally per ``model``).
+    velocity : {"vp", "vs"}
+        Velocity to plot, km/s.
+    grain, cement : str or Mineral, optional
+        Grain and cement (catalogue names for :func:`rockcem.materials.mineral`); default
+        ``ds.attrs["grain"]`` and ``ds.attrs["cement"]``.
+    fluid : str or Fluid, optional
+        Pore fluid; default ``ds.attrs["fluid"]``.
+    pressure : float, optional
+        Effective pressure of the Hertz–Mindlin contacts, MPa, ``> 0``; default the median of
+        ``ds["pressure_effective"]`` if present, else 20.
+    coordination_number : float, optional
+        Grain contacts per grain; default 9.
+    critical_porosity : float, optional
+        :math:`\phi_c`, in (0.04, 1); default ``ds.attrs.get("critical_porosity", 0.36)``.
+    fig : matplotlib.figure.Figure, optional
+        Empty figure to draw in.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the data as lines with markers (one colour per model, one line along depth
+        per sweep member), the templates as dark grey lines.
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``velocity``, missing variables, materials that are neither given nor in
+        ``ds.attrs``, or parameters out of range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rockcem.variables import build_dataset
+    >>> depth = np.linspace(500.0, 3000.0, 11)
+    >>> ds = build_dataset({"porosity": (("depth",), 0.34 - 8e-5 * depth),
+    ...                     "vp": (("depth",), 1.8 + 1e-3 * depth)},
+    ...                    {"depth": (("depth",), depth)},
+    ...                    {"grain": "quartz", "cement": "quartz_cement", "fluid": "water"})
+    >>> fig = velocity_porosity(ds)
+    >>> sorted(line.get_gid() for line in fig.axes[0].lines if line.get_gid())[:2]
+    ['template:constant_cement', 'template:contact_cement']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
+    """
+    _check_dataset(ds)
+    if velocity not in ("vp", "vs"):
+        close = difflib.get_close_matches(str(velocity), ["vp", "vs"], n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise ValueError(f"velocity must be 'vp' or 'vs'; got {velocity!r}{hint}")
+    v = _require(ds, velocity, "velocity_porosity")
+    phi = _require(ds, "porosity", "velocity_porosity")
+    grain = _material(grain, "Mineral", ds, "grain")
+    cement = _material(cement, "Mineral", ds, "cement")
+    fluid = _material(fluid, "Fluid", ds, "fluid")
+    if pressure is None:
+        pe = ds["pressure_effective"].values if "pressure_effective" in ds.data_vars else []
+        pe = np.asarray(pe, dtype=float)[np.isfinite(pe)]
+        pressure = float(np.median(pe)) if pe.size else 20.0
+    pressure = float(pressure)
+    if not (np.isfinite(pressure) and pressure > 0.0):
+        raise ValueError(f"pressure must be > 0 MPa; got {pressure:g}")
+    phic = float(ds.attrs.get("critical_porosity", 0.36) if critical_porosity is None
+                 else critical_porosity)
+    if not 0.04 < phic < 1.0:
+        raise ValueError(f"critical_porosity must lie in (0.04, 1); got {phic:g}")
+    templates = _contact_templates(grain, cement, fluid, pressure, float(coordination_number),
+                                   phic)
+
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    phi, v = xr.broadcast(phi, v)
+    models = list(ds["model"].values) if "model" in v.dims else [None]
+    with plt.rc_context(_RC):
+        fig = _figure(fig, (6.8, 4.0))
+        ax = fig.add_subplot()
+        for i, model in enumerate(models):
+            sel = {"model": i} if model is not None else {}
+            # One line along depth per sweep member (NaN breaks between members), with about
+            # 20 markers on each, so dense depth grids stay readable.
+            x, y = (_depth_rows(a.isel(sel)) for a in (phi, v))
+            ax.plot(x, y, marker=_model_marker(model, i), markersize=4.0, markeredgewidth=0.4,
+                    markeredgecolor="white", linewidth=1.2,
+                    markevery=max(1, (phi.sizes["depth"] + 1) // 20),
+                    color=_model_colour(model, i) if model is not None else _INK,
+                    label=_model_label(model) if model is not None else "data")
+        styles = {"soft_sand": "--", "stiff_sand": "-", "contact_cement": "-.",
+                  "constant_cement": ":"}
+        for key, (label, porosity, vel) in templates.items():
+            ax.plot(porosity, getattr(vel, velocity), color=_INK, linestyle=styles[key],
+                    linewidth=1.1, label=label, gid=f"template:{key}", zorder=1.5)
+        ax.set_xlabel(_label("porosity"))
+        ax.set_ylabel(_label(velocity))
+        ax.set_xlim(-0.01, phic + 0.02)
+        # Contact cement at vanishing cement drops far below Hertz-Mindlin (the C terms of the
+        # fits); let it run off the axes rather than squash the data.
+        finite = v.values[np.isfinite(v.values)]
+        low = float(getattr(templates["soft_sand"][2], velocity)[-1])
+        ax.set_ylim(bottom=0.9 * min(low, finite.min()) if finite.size else 0.9 * low)
+        fig.legend(loc="outside right upper", title=(
+            f"{grain.name or 'grain'} grains, {cement.name or 'cement'},\n"
+            f"{fluid.name or 'fluid'}; $p_e$ = {pressure:.3g} MPa,\n"
+            f"$n$ = {coordination_number:g}, $\\phi_c$ = {phic:g}"),
+            title_fontsize=7.5, alignment="left")
+    return fig
+
+
+# ----------------------------------------------------------------------------- RPT
+def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fluid="water",
+                          critical_porosity=0.36, pressure=20.0,
+                          porosity=(0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35),
+                          cement_fraction=(0.0, 0.01, 0.02, 0.04, 0.08),
+                          coordination_number=9.0, delta=100.0, fig=None):
+    r"""Rock-physics template: acoustic impedance against Vp/Vs from the patchy-cement model.
+
+    Lines of constant porosity and of constant cement fraction from
+    :func:`rockcem.models.patchy_cement_model` (Model 4) on the grid ``porosity`` x
+    ``cement_fraction``; combinations with :math:`\phi + \phi_p > \phi_c` are left out.
+    Impedance :math:`\rho V_P` (km/s·g/cm³) is on the horizontal axis and :math:`V_P/V_S` on the
+    vertical one, as in the templates of Ødegaard and Avseth. With ``ds`` the Dataset's points
+    are drawn over it, one marker per model, coloured by depth.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset, optional
+        Scene Dataset with ``density``, ``vp`` and ``vs`` (optionally per ``model``).
+    grain, cement : str or Mineral
+        Grain and cement materials; default quartz and quartz cement.
+    fluid : str or Fluid
+        Pore fluid; default water.
+    critical_porosity : float
+        :math:`\phi_c`, in (0, 1); default 0.36.
+    pressure : float
+        Effective pressure, MPa, ``>= 0``; default 20.
+    porosity : array_like, shape (m,)
+        Porosities of the iso-porosity lines, in (0, ``critical_porosity``].
+    cement_fraction : array_like, shape (k,)
+        Cement fractions of the iso-cement lines, in [0, ``critical_porosity``).
+    coordination_number : float
+        Coordination number of the pack; default 9.
+    delta : float
+        Bonding pre-stress of the uncemented contacts, MPa; default 100 (as Model 4 of
+        Carcione et al. 2022); a small value (e.g. 0) spreads the iso-cement lines.
+    fig : matplotlib.figure.Figure, optional
+        Empty figure to draw in.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The template axes (iso-porosity lines with ``gid`` ``"porosity=<value>"``, iso-cement
+        lines with ``gid`` ``"cement_fraction=<value>"``) and, with ``ds``, a depth colour bar.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rockcem.variables import build_dataset
+    >>> depth = np.linspace(1000.0, 3000.0, 5)
+    >>> ds = build_dataset({"density": (("depth",), np.full(5, 2.3)),
+    ...                     "vp": (("depth",), np.linspace(3.0, 4.2, 5)),
+    ...                     "vs": (("depth",), np.linspace(1.7, 2.5, 5))},
+    ...                    {"depth": (("depth",), depth)})
+    >>> fig = rock_physics_template(ds)
+    >>> fig.axes[0].get_xlabel(), fig.axes[0].get_ylabel()
+    ('Acoustic impedance ((km/s)·(g/cm³))', 'Vp/Vs (–)')
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
+    """
+    from ..models import patchy_cement_model
+
+    grain = _material(grain, "Mineral", None, "grain")
+    cement = _material(cement, "Mineral", None, "cement")
+    fluid = _material(fluid, "Fluid", None, "fluid")
+    phic = float(critical_porosity)
+    if not 0.0 < phic < 1.0:
+        raise ValueError(f"critical_porosity must lie in (0, 1); got {phic:g}")
+    phi = np.atleast_1d(np.asarray(porosity, dtype=float))
+    phip = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
+    if phi.ndim != 1 or np.any(~np.isfinite(phi)) or np.any((phi <= 0.0) | (phi > phic)):
+        raise ValueError(f"porosity must be a 1-D array of values in (0, {phic:g}]")
+    if phip.ndim != 1 or np.any(~np.isfinite(phip)) or np.any((phip < 0.0) | (phip >= phic)):
+        raise ValueError(f"cement_fraction must be a 1-D array of values in [0, {phic:g})")
+    if ds is not None:
+        _check_dataset(ds)
+        data = [_require(ds, n, "rock_physics_template") for n in ("density", "vp", "vs")]
+    P, C = np.meshgrid(phi, phip, indexing="ij")
+    ok = P + C <= phic * (1.0 + 1e-12)
+    if not ok.any():
+        raise ValueError("no porosity + cement_fraction combination is within critical_porosity")
+    rock = patchy_cement_model(grain, cement, P[ok], C[ok], pressure, fluid,
+                               critical_porosity=phic,
+                               coordination_number=coordination_number, delta=delta)
+    impedance = np.full(P.shape, np.nan)
+    ratio = np.full(P.shape, np.nan)
+    impedance[ok] = rock.density * rock.vp
+    ratio[ok] = rock.vp / rock.vs
+
+    import matplotlib.pyplot as plt
+    from matplotlib import patheffects
+    from matplotlib.lines import Line2D
+
+    with plt.rc_context(_RC):
+        fig = _figure(fig, (6.2 if ds is not None else 5.0, 4.6 if ds is not None else 4.2))
+        ax = fig.add_subplot()
+        cmap = plt.get_cmap("YlOrBr")
+        cement_colour = [cmap(0.45 + 0.5 * j / max(len(phip) - 1, 1)) for j in range(len(phip))]
+        halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
+        template = [Line2D([], [], color=_INK, linewidth=1.0, label="constant porosity $\\phi$")]
+        for j, c in enumerate(phip):
+            if ok[:, j].any():
+                ax.plot(impedance[:, j], ratio[:, j], color=cement_colour[j], linewidth=1.2,
+                        linestyle="--", marker="." if ok[:, j].sum() == 1 else "",
+                        gid=f"cement_fraction={c:g}", zorder=3)
+                template.append(Line2D([], [], color=cement_colour[j], linewidth=1.2,
+                                       linestyle="--", label=f"cement fraction $\\phi_p$ = {c:g}"))
+        leftmost = np.nanargmax(phi * ok.any(axis=1))
+        for i, p in enumerate(phi):
+            if ok[i].any():
+                ax.plot(impedance[i], ratio[i], color=_INK, linewidth=1.0,
+                        marker="." if ok[i].sum() == 1 else "", gid=f"porosity={p:g}", zorder=3.5)
+                j = np.flatnonzero(ok[i])[np.argmin(phip[ok[i]])]   # the least-cemented end
+                ax.annotate(f"$\\phi$ = {p:g}" if i == leftmost else f"{p:g}",
+                            (impedance[i, j], ratio[i, j]), xytext=(2, 3),
+                            textcoords="offset points", ha="left", va="bottom", fontsize=7,
+                            color=_INK, path_effects=halo, zorder=4)
+        ax.legend(handles=template, loc="upper right", title_fontsize=7.5,
+                           title=(f"Model 4 template: {grain.name or 'grain'}, "
+                                  f"{cement.name or 'cement'},\n{fluid.name or 'fluid'}, "
+                                  f"{pressure:g} MPa, $\\phi_c$ = {phic:g}"))
+        if ds is not None:
+            import xarray as xr
+
+            density, vp, vs = xr.broadcast(*data)
+            depth = xr.broadcast(ds["depth"], vp)[0]
+            models = list(ds["model"].values) if "model" in vp.dims else [None]
+            norm = plt.Normalize(float(ds["depth"].min()), float(ds["depth"].max()))
+            markers = []
+            for i, model in enumerate(models):
+                sel = {"model": i} if model is not None else {}
+                d, p, s = (a.isel(sel).values.ravel() for a in (density, vp, vs))
+                good = s > 0.0
+                few = good.sum() <= 300                    # edges only where they stay visible
+                marker = _model_marker(model, i)
+                x, y = (d * p)[good], p[good] / s[good]
+                z = depth.isel(sel).values.ravel()[good]
+                points = ax.scatter(x, y, c=z, cmap="viridis_r", norm=norm, marker=marker,
+                                    s=14 if few else 6, linewidths=0.3 if few else 0.0,
+                                    edgecolors="0.25", zorder=2, alpha=0.85,
+                                    label=_model_label(model) if model is not None else "data")
+                if not few:                                # every k-th point marked, ~25 a model
+                    k = slice(None, None, -(-x.size // 25))
+                    ax.scatter(x[k], y[k], c=z[k], cmap="viridis_r", norm=norm, marker=marker,
+                               s=18, linewidths=0.4, edgecolors="0.2", zorder=2.2)
+                markers.append(Line2D([], [], linestyle="none", marker=marker, markersize=4.5,
+                                      markerfacecolor="0.8", markeredgecolor="0.25",
+                                      label=points.get_label()))
+            fig.legend(handles=markers, loc="outside upper center", ncols=2)
+            bar = fig.colorbar(points, ax=ax, pad=0.02)
+            bar.set_label(_label("depth"))
+            bar.ax.invert_yaxis()                          # depth increases downward
+        ax.set_xlabel(_label("acoustic_impedance"))
+        ax.set_ylabel(_label("vp_vs"))
+        ax.margins(x=0.06, y=0.08)
+    return fig
+
+
+# ----------------------------------------------------------------------------- saving

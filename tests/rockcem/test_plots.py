@@ -1,0 +1,357 @@
+"""Figures of rockcem.plots: panels, lines, labels with units, templates against direct calls,
+atomic saving, cheap import, errors."""
+
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from rockcem import plots
+from rockcem.plots import _style
+from rockcem.fluids import gassmann
+from rockcem.granular import constant_cement, contact_cement, soft_sand, stiff_sand
+from rockcem.materials import fluid, mineral
+from rockcem.models import patchy_cement_model
+from rockcem.variables import build_dataset, variable_names
+
+MODELS = ["hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement"]
+QUARTZ, CEMENT, WATER = mineral("quartz"), mineral("quartz_cement"), fluid("water")
+
+
+@pytest.fixture(autouse=True)
+def close_figures():
+    yield
+    plt.close("all")
+
+
+def scene(n=21, models=MODELS, gradients=None, attrs=True):
+    """A hand-made scene Dataset: porosity falling and velocities rising with depth."""
+    depth = np.linspace(0.0, 4000.0, n)
+    z = depth / 4000.0
+    m = np.arange(len(models))[:, None]
+    lead, shape = ((), ())
+    if gradients is not None:
+        lead, shape = ("gradient",), (len(gradients),)
+    g = np.ones(shape + (1,)) if gradients is None else (np.asarray(gradients)[:, None] / 30.0)
+    porosity = np.clip(0.36 - 0.3 * z * g, 0.01, None)
+    gm = g[..., None, :] if gradients is not None else g
+    data = {
+        "porosity": (lead + ("depth",), porosity),
+        "cement_fraction": (lead + ("depth",), 0.36 - porosity),
+        "pressure_effective": (("depth",), 1e-2 * depth + 5.0),
+        "density": (lead + ("depth",), 2.65 - 1.61 * porosity),
+        "vp": (lead + ("model", "depth"), (2.0 + 3.0 * z + 0.1 * m) * gm),
+        "vs": (lead + ("model", "depth"), (1.0 + 2.0 * z + 0.05 * m) * gm),
+    }
+    coords = {"depth": (("depth",), depth), "model": (("model",), list(models))}
+    if gradients is not None:
+        coords["gradient"] = (("gradient",), np.asarray(gradients, dtype=float))
+    meta = {"grain": "quartz", "cement": "quartz_cement", "fluid": "water",
+            "critical_porosity": 0.36} if attrs else {}
+    ds = build_dataset(data, coords, meta)
+    if gradients is not None:
+        ds["gradient"].attrs.update(units="degree_Celsius km-1", long_name="geothermal gradient")
+    return ds
+
+
+def labelled(ax, label):
+    lines = [ln for ln in ax.get_lines() if ln.get_label() == label]
+    assert len(lines) == 1, [ln.get_label() for ln in ax.get_lines()]
+    return lines[0]
+
+
+# ----------------------------------------------------------------------------- labels
+@pytest.mark.parametrize("units, text", [
+    ("km s-1", "km/s"), ("g cm-3", "g/cm³"), ("km s-1 g cm-3", "(km/s)·(g/cm³)"),
+    ("degree_Celsius km-1", "°C/km"), ("degree_Celsius", "°C"), ("MPa", "MPa"), ("m2", "m²"),
+    ("1", "–"), ("Myr", "Myr"), ("m s-2", "m/s²"),
+])
+def test_units_text(units, text):
+    assert _style._units_text(units) == text
+
+
+def test_every_registered_variable_gets_a_label_with_its_unit():
+    for name in variable_names():
+        label = _style._label(name)
+        assert label.endswith(")") and "(" in label, label
+    assert _style._label("vp") == "P-wave velocity (km/s)"
+    assert _style._label("pressure_effective") == "Effective pressure (MPa)"
+    assert _style._label("temperature") == "Temperature (°C)"
+
+
+# ----------------------------------------------------------------------------- depth trends
+def test_depth_trends_panels_lines_labels_and_inverted_depth():
+    ds = scene()
+    fig = plots.depth_trends(ds)
+    names = ["porosity", "cement_fraction", "density", "vp", "vs"]
+    assert len(fig.axes) == len(names)
+    assert [len(ax.get_lines()) for ax in fig.axes] == [1, 1, 1, 4, 4]
+    assert [ax.get_xlabel().replace("\n", " ") for ax in fig.axes] == [
+        "Porosity (–)", "Quartz cement volume fraction (–)", "Bulk density (g/cm³)",
+        "P-wave velocity (km/s)", "S-wave velocity (km/s)"]
+    assert fig.axes[0].get_ylabel() == "Depth below the sediment surface (m)"
+    for ax in fig.axes:
+        assert ax.yaxis_inverted()
+        assert ax.get_ylim() == (4000.0, 0.0)
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert legend == ["Model 1 (HS–Krief–Gassmann)", "Model 2 (self-consistent)",
+                      "Model 3 (generalized Gassmann)", "Model 4 (patchy cement)"]
+    vp4 = labelled(fig.axes[3], "Model 4 (patchy cement)")
+    np.testing.assert_array_equal(vp4.get_xdata(), ds.vp.sel(model="patchy_cement").values)
+    np.testing.assert_array_equal(vp4.get_ydata(), ds.depth.values)
+
+
+def test_depth_trends_chosen_variables_in_order():
+    fig = plots.depth_trends(scene(), ["vs", "porosity"])
+    assert [ax.get_xlabel() for ax in fig.axes] == ["S-wave velocity (km/s)", "Porosity (–)"]
+    fig = plots.depth_trends(scene(), "pressure_effective")
+    assert fig.axes[0].get_xlabel() == "Effective pressure (MPa)"
+
+
+def test_depth_trends_one_sweep_dimension():
+    ds = scene(gradients=[25.0, 30.0, 35.0])
+    fig = plots.depth_trends(ds, ["porosity", "vp", "pressure_effective"])
+    assert [len(ax.get_lines()) for ax in fig.axes] == [3, 12, 1]
+    styles = {ln.get_linestyle() for ln in fig.axes[0].get_lines()}
+    assert len(styles) == 3
+    models, sweep = fig.legends
+    assert len(models.get_texts()) == 4
+    assert [t.get_text() for t in sweep.get_texts()] == ["25 °C/km", "30 °C/km", "35 °C/km"]
+    assert sweep.get_title().get_text() == "Geothermal gradient"
+    line = labelled(fig.axes[1], "Model 2 (self-consistent), gradient = 35 °C/km")
+    np.testing.assert_array_equal(line.get_xdata(),
+                                  ds.vp.sel(model="self_consistent", gradient=35.0).values)
+
+
+def test_depth_trends_without_model_dimension_has_no_legend():
+    ds = scene().sel(model="hs_gassmann", drop=True)
+    fig = plots.depth_trends(ds, ["vp", "porosity"])
+    assert [len(ax.get_lines()) for ax in fig.axes] == [1, 1]
+    assert fig.legends == []
+
+
+def test_depth_trends_draws_in_a_given_figure():
+    fig = plt.figure(figsize=(8, 4))
+    assert plots.depth_trends(scene(), ["vp"], fig=fig) is fig
+    with pytest.raises(ValueError, match="empty"):
+        plots.depth_trends(scene(), ["vp"], fig=fig)
+
+
+def test_depth_trends_errors():
+    ds = scene()
+    with pytest.raises(ValueError, match="did you mean 'porosity'"):
+        plots.depth_trends(ds, ["porosty"])
+    with pytest.raises(ValueError, match="'depth' dimension"):
+        plots.depth_trends(ds.isel(depth=0))
+    with pytest.raises(ValueError, match="'depth' dimension"):
+        plots.depth_trends(ds.assign(p0=ds.porosity.isel(depth=0)), ["p0"])
+    two = scene(gradients=[25.0, 30.0]).expand_dims(rate=[20.0, 40.0])
+    with pytest.raises(ValueError, match=r"more than one sweep dimension.*\.sel"):
+        plots.depth_trends(two)
+    plots.depth_trends(two.sel(rate=20.0))                 # selecting one slice works
+    with pytest.raises(ValueError, match="Dataset"):
+        plots.depth_trends(ds.vp)
+    with pytest.raises(ValueError, match="default variables"):
+        plots.depth_trends(ds[["pressure_effective"]])
+
+
+# ----------------------------------------------------------------------------- velocity-porosity
+def direct_velocities(dry, phi):
+    """Gassmann with the grain as mineral, density by mixing, velocities written out."""
+    K = gassmann(dry.K, QUARTZ.K, WATER.K, phi)
+    rho = (1.0 - phi) * QUARTZ.rho + phi * WATER.rho
+    return np.sqrt((K + 4.0 / 3.0 * dry.G) / rho), np.sqrt(dry.G / rho)
+
+
+def template_point(ax, key, near):
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == f"template:{key}")
+    x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+    k = int(np.argmin(abs(x - near)))
+    return x[k], y[k]
+
+
+@pytest.mark.parametrize("velocity", ["vp", "vs"])
+def test_velocity_porosity_templates_match_direct_calls(velocity):
+    ds = scene()
+    p = float(np.median(ds.pressure_effective))        # default pressure: the median
+    fig = plots.velocity_porosity(ds, velocity=velocity)
+    ax = fig.axes[0]
+    col = 0 if velocity == "vp" else 1
+    cases = {
+        "soft_sand": (0.2, lambda phi: soft_sand(40.0, 39.0, phi, 0.36, 9.0, p)),
+        "stiff_sand": (0.2, lambda phi: stiff_sand(40.0, 39.0, phi, 0.36, 9.0, p)),
+        "contact_cement": (0.3, lambda phi: contact_cement(40.0, 39.0, 35.0, 30.0, phi, 0.36,
+                                                           9.0, scheme=1)),
+        "constant_cement": (0.2, lambda phi: constant_cement(40.0, 39.0, 35.0, 30.0, phi, 0.36,
+                                                             9.0, 0.32)),
+    }
+    for key, (near, dry) in cases.items():
+        phi, v = template_point(ax, key, near)
+        assert abs(phi - near) < 3e-3
+        assert v == pytest.approx(float(direct_velocities(dry(phi), phi)[col]), rel=1e-12), key
+    assert ax.get_xlabel() == "Porosity (–)"
+    assert ax.get_ylabel() == ("P-wave velocity (km/s)" if velocity == "vp"
+                               else "S-wave velocity (km/s)")
+    data = [ln for ln in ax.get_lines() if not ln.get_gid()]
+    assert [ln.get_label() for ln in data] == [plots.MODEL_LABELS[m] for m in MODELS]
+    np.testing.assert_array_equal(data[1].get_ydata(),
+                                  ds[velocity].sel(model="self_consistent").values)
+    assert len(fig.legends[0].get_texts()) == 8
+
+
+def test_velocity_porosity_defaults_and_overrides():
+    ds = scene().drop_vars("pressure_effective")
+    fig = plots.velocity_porosity(ds)                   # no pressure in ds: 20 MPa
+    phi, v = template_point(fig.axes[0], "soft_sand", 0.1)
+    assert v == pytest.approx(float(direct_velocities(
+        soft_sand(40.0, 39.0, phi, 0.36, 9.0, 20.0), phi)[0]), rel=1e-12)
+    fig = plots.velocity_porosity(scene(attrs=False), grain=QUARTZ, cement="quartz_cement",
+                                  fluid="water", pressure=30.0, critical_porosity=0.4,
+                                  coordination_number=8.0)
+    phi, v = template_point(fig.axes[0], "stiff_sand", 0.2)
+    K = gassmann(stiff_sand(40.0, 39.0, phi, 0.4, 8.0, 30.0).K, 40.0, 2.2, phi)
+    G = stiff_sand(40.0, 39.0, phi, 0.4, 8.0, 30.0).G
+    rho = (1 - phi) * 2.65 + phi * 1.04
+    assert v == pytest.approx(float(np.sqrt((K + 4 / 3 * G) / rho)), rel=1e-12)
+    line = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "template:constant_cement")
+    assert max(line.get_xdata()) == pytest.approx(0.36)     # phib = 0.4 - 0.04
+
+
+def test_velocity_porosity_sweep_members_are_separate_lines():
+    ds = scene(n=11, gradients=[25.0, 35.0])
+    ax = plots.velocity_porosity(ds).axes[0]
+    line = labelled(ax, plots.MODEL_LABELS["hs_gassmann"])
+    y = np.asarray(line.get_ydata())
+    assert y.size == 2 * 11 + 1 and np.isnan(y[11])       # a break between the members
+    np.testing.assert_array_equal(y[12:], ds.vp.sel(model="hs_gassmann", gradient=35.0).values)
+    x = np.asarray(line.get_xdata())
+    np.testing.assert_array_equal(x[:11], ds.porosity.sel(gradient=25.0).values)
+
+
+def test_velocity_porosity_errors():
+    ds = scene()
+    with pytest.raises(ValueError, match="did you mean 'vp'"):
+        plots.velocity_porosity(ds, velocity="vpp")
+    with pytest.raises(ValueError, match="grain"):
+        plots.velocity_porosity(scene(attrs=False))
+    with pytest.raises(ValueError, match="porosity"):
+        plots.velocity_porosity(ds.drop_vars("porosity"))
+    with pytest.raises(ValueError, match="unknown mineral 'qartz'"):
+        plots.velocity_porosity(ds, grain="qartz")
+    with pytest.raises(ValueError, match="pressure"):
+        plots.velocity_porosity(ds, pressure=0.0)
+    with pytest.raises(ValueError, match="critical_porosity"):
+        plots.velocity_porosity(ds, critical_porosity=0.03)
+
+
+# ----------------------------------------------------------------------------- RPT
+def test_rock_physics_template_lines_match_patchy_cement_model():
+    fig = plots.rock_physics_template()
+    ax = fig.axes[0]
+    gids = [ln.get_gid() for ln in ax.get_lines()]
+    porosity_lines = [g for g in gids if g.startswith("porosity=")]
+    cement_lines = [g for g in gids if g.startswith("cement_fraction=")]
+    assert len(porosity_lines) == 7 and len(cement_lines) == 5
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
+    x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, 20.0, WATER, critical_porosity=0.36)
+    assert x[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)   # cement 0.04 is 4th
+    assert y[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    # porosity 0.35 with cement 0.02, 0.04, 0.08 exceeds critical porosity: left out
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.35")
+    assert np.isnan(np.asarray(line.get_ydata())[2:]).all()
+    assert np.isfinite(np.asarray(line.get_ydata())[:2]).all()
+    assert ax.get_xlabel() == "Acoustic impedance ((km/s)·(g/cm³))"
+    assert ax.get_ylabel() == "Vp/Vs (–)"
+    assert len(ax.texts) == 7                              # one label per iso-porosity line
+
+
+def test_rock_physics_template_with_dataset_points_coloured_by_depth():
+    ds = scene()
+    fig = plots.rock_physics_template(ds, porosity=[0.1, 0.2, 0.3], cement_fraction=[0.0, 0.04])
+    ax, bar = fig.axes
+    assert len(ax.collections) == 4                        # one scatter per model
+    points = ax.collections[3]
+    d = ds.density.values * ds.vp.sel(model="patchy_cement").values
+    np.testing.assert_allclose(points.get_offsets()[:, 0], d, rtol=1e-12)
+    np.testing.assert_array_equal(points.get_array(), ds.depth.values)
+    assert bar.get_ylabel() == "Depth below the sediment surface (m)"
+    assert bar.yaxis_inverted()
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == [plots.MODEL_LABELS[m]
+                                                                  for m in MODELS]
+
+
+def test_rock_physics_template_dense_data_get_sparse_marked_points():
+    ds = scene(n=400, models=["patchy_cement"])
+    ax = plots.rock_physics_template(ds, porosity=[0.2], cement_fraction=[0.0]).axes[0]
+    dense, marked = ax.collections
+    assert len(dense.get_offsets()) == 400 and 20 <= len(marked.get_offsets()) <= 25
+
+
+def test_rock_physics_template_errors():
+    with pytest.raises(ValueError, match="porosity"):
+        plots.rock_physics_template(porosity=[0.0, 0.2])
+    with pytest.raises(ValueError, match="cement_fraction"):
+        plots.rock_physics_template(cement_fraction=[-0.01])
+    with pytest.raises(ValueError, match="within critical_porosity"):
+        plots.rock_physics_template(porosity=[0.35], cement_fraction=[0.05])
+    with pytest.raises(ValueError, match="vs"):
+        plots.rock_physics_template(scene().drop_vars("vs"))
+
+
+# ----------------------------------------------------------------------------- saving
+def simple_figure(title="line"):
+    fig, ax = plt.subplots(figsize=(2, 2))
+    ax.plot([0, 1], [0, 1])
+    ax.set_title(title)
+    return fig
+
+
+def test_save_figure_png_and_pdf_atomically(tmp_path):
+    fig = simple_figure()
+    out = plots.save_figure(fig, tmp_path / "a.png", dpi=50)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not plt.fignum_exists(fig.number)               # closed
+    plots.save_figure(simple_figure(), str(tmp_path / "b.PDF"))
+    assert (tmp_path / "b.PDF").read_bytes()[:5] == b"%PDF-"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.PDF"]
+
+
+def test_failing_save_leaves_existing_file_and_no_temporary(tmp_path):
+    target = tmp_path / "fig.png"
+    target.write_bytes(b"old figure")
+    fig = simple_figure(r"$\notacommand{x}$")              # mathtext error while drawing
+    with pytest.raises(ValueError):
+        plots.save_figure(fig, target)
+    assert target.read_bytes() == b"old figure"
+    assert [p.name for p in tmp_path.iterdir()] == ["fig.png"]
+    assert not plt.fignum_exists(fig.number)
+    with pytest.raises(ValueError, match="suffix|end in"):
+        plots.save_figure(simple_figure(), tmp_path / "fig.jpeg")
+    with pytest.raises(ValueError, match="does not exist"):
+        plots.save_figure(simple_figure(), tmp_path / "missing" / "fig.png")
+    assert [p.name for p in tmp_path.iterdir()] == ["fig.png"]
+
+
+# ----------------------------------------------------------------------------- import cost
+def test_import_does_not_load_pyplot_numba_or_xarray():
+    code = ("import sys, rockcem.plots; "
+            "print(','.join(m for m in ('matplotlib.pyplot', 'matplotlib', 'numba', 'xarray') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
+
+
+def test_public_api():
+    assert set(plots.__all__) >= {"depth_trends", "velocity_porosity", "rock_physics_template",
+                                  "save_figure"}
+    for name in plots.__all__:
+        obj = getattr(plots, name)
+        if callable(obj):
+            assert "Examples" in obj.__doc__ and "Parameters" in obj.__doc__
