@@ -76,6 +76,36 @@ def _demo(args) -> int:
     return 0
 
 
+def _plot(args) -> int:
+    from pathlib import Path
+
+    import xarray as xr
+
+    from . import plots
+
+    path = Path(args.file)
+    if not path.is_file():
+        raise ValueError(f"no such file: {args.file}")
+    try:
+        ds = xr.load_dataset(path, engine="netcdf4")
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{args.file} is not a readable netCDF file: {exc}") from None
+    if args.kind == "vp-porosity" and ds.attrs.get("lithology") != "sandstone":
+        raise ValueError("--kind vp-porosity draws the contact models of a sandstone; "
+                         f"{path.name} is not a sandstone scene")
+    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    if args.kind != "depth" and sweeps:
+        ds = ds.isel({d: 0 for d in sweeps})
+    draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
+            "template": plots.rock_physics_template}[args.kind]
+    out = args.output or path.with_name(f"{path.stem}_{args.kind}.png")
+    if args.kind == "depth" and len(sweeps) > 1:
+        ds = ds.isel({d: 0 for d in sweeps[1:]})
+    saved = plots.save_figure(draw(ds), out)
+    print(f"wrote {saved}")
+    return 0
+
+
 def _scenes(args) -> int:
     import tomllib
 
@@ -119,6 +149,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="run a sweep on dask: 'local' or a scheduler address (needs [dask])")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     p.set_defaults(func=_run)
+    p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
+    p.add_argument("file", help="netCDF file written by `rockcem run`")
+    p.add_argument("--kind", choices=["depth", "vp-porosity", "template"], default="depth",
+                   help="depth trends (default), velocity-porosity, or the rock-physics template")
+    p.add_argument("-o", "--output", help="figure file (.png, .pdf, .svg)")
+    p.set_defaults(func=_plot)
     p = sub.add_parser("demo", help="run the sandstone example; write a netCDF file and a figure")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     p.set_defaults(func=_demo)

@@ -221,3 +221,14 @@ def test_sweep_on_a_real_local_dask_cluster():
     parallel = run_scene(scene, scheduler="local")
     xr.testing.assert_allclose(serial.drop_attrs(), parallel.drop_attrs(), rtol=1e-14)
     assert dict(parallel.sizes) == {"depth": 41, "model": 2, "gradient": 2, "grain_size": 2}
+
+
+def test_cli_plot(tmp_path, run_cli):
+    raw = dict(SANDSTONE, sweep={"path.gradient": [20.0, 30.0]})
+    write_dataset(run_scene(scene_from_dict(raw)), tmp_path / "s.nc")
+    for kind in ("depth", "vp-porosity", "template"):
+        out = run_cli(["plot", "s.nc", "--kind", kind], tmp_path)
+        assert out.returncode == 0, out.stderr
+        assert (tmp_path / f"s_{kind}.png").stat().st_size > 10_000
+    bad = run_cli(["plot", "missing.nc"], tmp_path)
+    assert bad.returncode == 2 and "no such file" in bad.stderr
