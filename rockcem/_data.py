@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import tomllib
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 __all__ = ["data_path", "read_toml"]
@@ -12,13 +11,11 @@ __all__ = ["data_path", "read_toml"]
 
 @lru_cache(maxsize=1)
 def _root() -> Path:
-    try:
-        root = Path(str(resources.files("rockcem._datasets")))
-        if (root / "materials").is_dir():
-            return root
-    except ModuleNotFoundError:
-        pass
-    checkout = Path(__file__).resolve().parent.parent / "datasets"
+    here = Path(__file__).resolve().parent
+    installed = here / "_datasets"            # the wheel maps datasets/ to rockcem/_datasets
+    if (installed / "materials").is_dir():
+        return installed
+    checkout = here.parent / "datasets"
     if checkout.is_dir():
         return checkout
     raise FileNotFoundError("the rockcem datasets folder is missing from this installation")
