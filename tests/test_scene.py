@@ -232,3 +232,15 @@ def test_cli_plot(tmp_path, run_cli):
         assert (tmp_path / f"s_{kind}.png").stat().st_size > 10_000
     bad = run_cli(["plot", "missing.nc"], tmp_path)
     assert bad.returncode == 2 and "no such file" in bad.stderr
+
+
+def test_file_opens_with_netcdf4_directly(tmp_path):
+    """Tools other than xarray (ncdump, netCDF4-python) see the variables, units and dims."""
+    netCDF4 = pytest.importorskip("netCDF4")
+    path = write_dataset(run_scene(scene_from_dict(SANDSTONE)), tmp_path / "s.nc")
+    with netCDF4.Dataset(path) as nc:
+        assert nc.variables["vp"].dimensions == ("model", "depth")
+        assert nc.variables["vp"].units == "km s-1"
+        assert nc.variables["depth"].positive == "down"
+        assert list(nc.variables["model"][:]) == ["hs_gassmann", "patchy_cement"]
+        assert nc.getncattr("Conventions").startswith("CF")
