@@ -5,9 +5,39 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._kernels_contact import accumulate_forces
+from ._kernels_contact import accumulate_forces, pair_force
 
-__all__ = ["verlet_run", "elastic_energy"]
+__all__ = ["verlet_run", "elastic_energy", "floor_forces"]
+
+
+@njit(cache=True)
+def floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt, force,
+                 torque):
+    """Add the Hertz–Mindlin forces of a rigid flat floor at ``z_floor`` (same material, sphere on
+    a half-space: R_f = r, m_f = m). ``wall_hist`` (N, 3) holds the tangential histories."""
+    for j in range(x.shape[0]):
+        xi = r[j] - (x[j, 2] - z_floor)
+        if xi <= 0.0:
+            wall_hist[j, 0] = 0.0
+            wall_hist[j, 1] = 0.0
+            wall_hist[j, 2] = 0.0
+            continue
+        # n points from the floor into the grain; contact point at -r n from the centre.
+        vrx = v[j, 0] - r[j] * w[j, 1]
+        vry = v[j, 1] + r[j] * w[j, 0]
+        vrz = v[j, 2]
+        fx, fy, fz, zx, zy, zz, fn = pair_force(xi, 0.0, 0.0, 1.0, vrx, vry, vrz, wall_hist[j, 0],
+                                                wall_hist[j, 1], wall_hist[j, 2], r[j], m[j],
+                                                E_f, G_f, beta_c, v_ref, mu, dt)
+        wall_hist[j, 0] = zx
+        wall_hist[j, 1] = zy
+        wall_hist[j, 2] = zz
+        force[j, 0] += fx
+        force[j, 1] += fy
+        force[j, 2] += fz
+        # Torque (-r n) x f_t with n = z: -r (n x f_t) = -r (-f_ty, f_tx, 0).
+        torque[j, 0] += r[j] * fy
+        torque[j, 1] -= r[j] * fx
 
 
 @njit(cache=True)
@@ -31,13 +61,17 @@ def elastic_energy(x, r, pairs, box_l, E_f):
 
 @njit(cache=True)
 def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt, n_steps,
-               gravity_z, record_every, energy):
+               gravity_z, record_every, energy, z_floor=-np.inf, wall_hist=np.zeros((0, 3)),
+               drag=0.0):
     """Advance ``n_steps`` of velocity Verlet in place (translation and rotation of spheres).
 
     Forces are evaluated with the half-step velocities (the usual choice for dissipative
     contacts). Every ``record_every`` steps the total energy (kinetic + rotational + Hertz +
-    gravitational) is written to ``energy[k]``. Returns the number of records written.
+    gravitational) is written to ``energy[k]``. Returns the number of records written. With a
+    finite ``z_floor`` a rigid floor acts (``wall_hist`` (N, 3)); ``drag`` (1/s) adds the viscous
+    force ``-drag m v`` of the settling fluid.
     """
+    use_floor = np.isfinite(z_floor)
     n = x.shape[0]
     force = np.zeros((n, 3))
     torque = np.zeros((n, 3))
@@ -46,6 +80,9 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
         inertia[i] = 0.4 * m[i] * r[i] * r[i]
     accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt, force,
                       torque)
+    if use_floor:
+        floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt, force,
+                     torque)
     k = 0
     for step in range(n_steps):
         if record_every > 0 and step % record_every == 0 and k < energy.shape[0]:
@@ -64,8 +101,12 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
             v[i, 2] += 0.5 * dt * gravity_z
         accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
                           force, torque)
+        if use_floor:
+            floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt,
+                         force, torque)
         for i in range(n):
             for a in range(3):
+                force[i, a] -= drag * m[i] * v[i, a]
                 v[i, a] += 0.5 * dt * force[i, a] / m[i]
                 w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
             v[i, 2] += 0.5 * dt * gravity_z
