@@ -62,16 +62,18 @@ def elastic_energy(x, r, pairs, box_l, E_f):
 @njit(cache=True)
 def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt, n_steps,
                gravity_z, record_every, energy, z_floor=-np.inf, wall_hist=np.zeros((0, 3)),
-               drag=0.0):
+               drag=0.0, fixed=np.zeros(0, dtype=np.bool_)):
     """Advance ``n_steps`` of velocity Verlet in place (translation and rotation of spheres).
 
     Forces are evaluated with the half-step velocities (the usual choice for dissipative
     contacts). Every ``record_every`` steps the total energy (kinetic + rotational + Hertz +
     gravitational) is written to ``energy[k]``. Returns the number of records written. With a
     finite ``z_floor`` a rigid floor acts (``wall_hist`` (N, 3)); ``drag`` (1/s) adds the viscous
-    force ``-drag m v`` of the settling fluid.
+    force ``-drag m v`` of the settling fluid. Grains with ``fixed[i]`` keep their velocities
+    (prescribed motion, e.g. the frozen end slabs of a compaction).
     """
     use_floor = np.isfinite(z_floor)
+    has_fixed = fixed.shape[0] == x.shape[0]
     n = x.shape[0]
     force = np.zeros((n, 3))
     torque = np.zeros((n, 3))
@@ -94,6 +96,10 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
             energy[k] = e
             k += 1
         for i in range(n):
+            if has_fixed and fixed[i]:
+                for a in range(3):
+                    x[i, a] += dt * v[i, a]
+                continue
             for a in range(3):
                 v[i, a] += 0.5 * dt * force[i, a] / m[i]
                 w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
@@ -105,6 +111,8 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
             floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt,
                          force, torque)
         for i in range(n):
+            if has_fixed and fixed[i]:
+                continue
             for a in range(3):
                 force[i, a] -= drag * m[i] * v[i, a]
                 v[i, a] += 0.5 * dt * force[i, a] / m[i]

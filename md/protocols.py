@@ -15,7 +15,7 @@ from .neighbors import build_neighbors, needs_rebuild
 from .space import Box
 from .state import Pack
 
-__all__ = ["settle", "porosity", "coordination_number"]
+__all__ = ["settle", "compact", "porosity", "coordination_number"]
 
 GRAVITY = 9.81
 
@@ -35,12 +35,12 @@ def _remap_history(old_pairs, old_hist, new_pairs, n):
     return hist
 
 
-def porosity(pack: Pack, *, top=None) -> float:
-    """Porosity of the pack between the floor and ``top`` (default: the highest grain top minus
-    one largest diameter, to leave out the rough free surface), from the grain volumes inside
-    that slab (spherical caps of grains cut by its planes counted exactly)."""
+def porosity(pack: Pack, *, bottom=None, top=None) -> float:
+    """Porosity of the pack between ``bottom`` (default the floor) and ``top`` (default: the
+    highest grain top minus one largest diameter, to leave out the rough free surface), from the
+    grain volumes inside that slab (spherical caps of grains cut by its planes counted exactly)."""
     z, r = pack.positions[:, 2], pack.radii
-    z0 = pack.box.lz_min
+    z0 = pack.box.lz_min if bottom is None else float(bottom)
     z1 = float(np.max(z + r) - 2.0 * r.max()) if top is None else float(top)
     if not z1 > z0:
         raise ValueError("the slab for the porosity is empty")
@@ -204,3 +204,108 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
     z = coordination_number(pack)
     return dataclasses.replace(pack, metadata={**pack.metadata, "porosity": phi,
                                                "coordination_number": z})
+
+
+def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step=2e-3,
+            slab=1.0, drag=2000.0, rest_tolerance=1e-4, max_increments=400,
+            progress=False) -> Pack:
+    r"""Compact a settled pack between frozen end slabs (García & Medina, Sect. III A).
+
+    The grains within ``slab`` largest diameters of the bottom and of the top are frozen. At each
+    increment the sample is shortened by ``strain_step`` of its height — an affine step of all
+    positions toward the core — and the mobile grains relax (damped with ``-drag m v``, no
+    gravity, no floor) until their kinetic energy is below ``rest_tolerance`` times the elastic
+    energy of the contacts. After each increment the porosity and coordination number of the core
+    (between the slabs) and the vertical contact stress :math:`\sigma_{zz}` (virial of the core,
+    :func:`md.observe.contact_stress`) are recorded. The run stops at the first increment that
+    reaches ``target_porosity`` or ``target_stress`` (Pa).
+
+    Returns
+    -------
+    Pack
+        ``stage="compact"``; ``metadata["record"]`` holds the lists ``porosity``,
+        ``coordination_number``, ``stress_zz`` (Pa) and ``strain`` per increment.
+    """
+    from ._kernels_integrate import elastic_energy, verlet_run
+    from .observe import contact_stress
+
+    if target_porosity is None and target_stress is None:
+        raise ValueError("give target_porosity or target_stress")
+    if target_porosity is not None and not 0 < target_porosity < 1:
+        raise ValueError("target_porosity must lie in (0, 1)")
+    if target_stress is not None and not target_stress > 0:
+        raise ValueError("target_stress must be > 0 Pa")
+    if not 0 < strain_step < 0.05:
+        raise ValueError("strain_step must lie in (0, 0.05)")
+    mat = pack.material
+    x = pack.positions.copy()
+    v = np.zeros_like(x)
+    w = np.zeros_like(x)
+    r = pack.radii.copy()
+    n = r.size
+    m = 4.0 / 3.0 * np.pi * r**3 * mat.density
+    d = 2.0 * r.max()
+    box = pack.box
+    z_lo, z_hi = x[:, 2].min(), x[:, 2].max()
+    fixed = (x[:, 2] < z_lo + slab * d) | (x[:, 2] > z_hi - slab * d)
+    if fixed.all() or not fixed.any():
+        raise ValueError("slab: the frozen slabs must leave mobile grains between them")
+    if target_porosity is not None:
+        phi0 = porosity(pack, bottom=z_lo + slab * d, top=z_hi - slab * d)
+        if target_porosity >= phi0:
+            raise ValueError(f"target_porosity {target_porosity} is not below the current "
+                             f"porosity {phi0:.4f}")
+    beta = damping_parameter(mat.restitution)
+    skin = 0.3 * r.min()
+    nl = build_neighbors(x, r, box, skin)
+    hist = _remap_history(pack.pairs, pack.history, nl.pairs, n)
+    v_ref = 0.01
+    dt = stable_time_step(mat, r.min(), r.max(), v_ref)
+    record = {"strain": [], "porosity": [], "coordination_number": [], "stress_zz": []}
+    strain = 0.0
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=max_increments, desc="compact", unit="step", disable=not progress)
+    for _ in range(max_increments):
+        centre = 0.5 * (x[:, 2].min() + x[:, 2].max())
+        x[:, 2] = centre + (x[:, 2] - centre) * (1.0 - strain_step)
+        strain += strain_step
+        for _relax in range(2000):
+            verlet_run(x, v, w, r, m, nl.pairs, hist, np.array([box.lx, box.ly]), mat.E_f,
+                       mat.G_f, beta, v_ref, mat.friction, dt, 200, 0.0, 0, np.zeros(0),
+                       -np.inf, np.zeros((0, 3)), float(drag), fixed)
+            if not np.all(np.isfinite(x)):
+                raise RuntimeError("compact: the integration blew up (non-finite positions)")
+            if needs_rebuild(nl, x, box):
+                new = build_neighbors(x, r, box, skin)
+                hist = _remap_history(nl.pairs, hist, new.pairs, n)
+                nl = new
+            ke = 0.5 * np.sum(m[:, None] * v * v)
+            pe = elastic_energy(x, r, nl.pairs, np.array([box.lx, box.ly]), mat.E_f)
+            if ke <= rest_tolerance * max(pe, 1e-300):
+                break
+        else:
+            raise RuntimeError("compact: the pack did not come to rest within an increment")
+        lo = x[fixed, 2][x[fixed, 2] < centre].max() + r.max()
+        hi = x[fixed, 2][x[fixed, 2] > centre].min() - r.max()
+        cur = Pack(x.copy(), v.copy(), w.copy(), r, box, mat, np.asarray(nl.pairs, np.int32),
+                   hist.copy(), stage="compact")
+        phi = porosity(cur, bottom=lo, top=hi)
+        sigma = contact_stress(x, r, nl.pairs, box, mat, z_range=(lo, hi))
+        mobile = Pack(x[~fixed], v[~fixed], w[~fixed], r[~fixed], box, mat,
+                      np.zeros((0, 2), np.int32), np.zeros((0, 3)))
+        record["strain"].append(strain)
+        record["porosity"].append(phi)
+        record["coordination_number"].append(coordination_number(mobile))
+        record["stress_zz"].append(float(sigma[2, 2]))
+        bar.update(1)
+        if (target_porosity is not None and phi <= target_porosity) or \
+                (target_stress is not None and sigma[2, 2] >= target_stress):
+            break
+    else:
+        raise RuntimeError(f"compact: target not reached in {max_increments} increments "
+                           f"(porosity {record['porosity'][-1]:.4f}, "
+                           f"stress {record['stress_zz'][-1]:.3g} Pa)")
+    bar.close()
+    return dataclasses.replace(cur, metadata={**pack.metadata, "record": record,
+                                              "strain_step": strain_step, "slab": slab})

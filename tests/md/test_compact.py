@@ -1,0 +1,56 @@
+"""Compaction between frozen slabs, and the contact stress (virial) it records."""
+
+import numpy as np
+import pytest
+
+from md.contact import QUARTZ, hertz_force
+from md.observe import contact_stress
+from md.protocols import compact, settle
+from md.space import Box
+
+
+def test_contact_stress_of_one_vertical_contact():
+    """Two grains stacked in z with overlap xi: sigma_zz = F l / V, F the Hertz force, l the
+    branch length; no shear or lateral components."""
+    R, xi = 2e-4, 1e-7
+    x = np.array([[1e-3, 1e-3, 1e-3], [1e-3, 1e-3, 1e-3 + 2 * R - xi]])
+    box = Box(2e-3, 2e-3, 0.0, 3e-3)
+    s = contact_stress(x, np.array([R, R]), np.array([[0, 1]]), box, QUARTZ,
+                       z_range=(0.5e-3, 2e-3))
+    F = float(hertz_force(xi, R / 2, QUARTZ.E_f))
+    # The overlap is recovered from positions ~1e-3 m apart: ~1e-12 relative round-off in xi.
+    assert s[2, 2] == pytest.approx(F * (2 * R - xi) / (2e-3 * 2e-3 * 1.5e-3), rel=1e-9)
+    assert abs(s[0, 0]) + abs(s[0, 2]) + abs(s[1, 2]) < 1e-12 * s[2, 2]
+
+
+@pytest.fixture(scope="module")
+def settled():
+    return settle(size=(3, 3, 6), fall_stiffness_factor=1e-3, seed=2, kinetic_tolerance=1e-5)
+
+
+def test_compaction_to_a_stress(settled):
+    c = compact(settled, target_stress=3e6, strain_step=2e-3)
+    rec = c.metadata["record"]
+    assert c.stage == "compact"
+    assert rec["stress_zz"][-1] >= 3e6 and all(s < 3e6 for s in rec["stress_zz"][:-1])
+    assert np.all(np.diff(rec["porosity"]) < 0)
+    assert np.all(np.diff(rec["stress_zz"]) > 0)
+    assert rec["porosity"][-1] < settled.metadata["porosity"]
+    assert rec["coordination_number"][-1] >= rec["coordination_number"][0]
+
+
+def test_compaction_to_a_porosity(settled):
+    c = compact(settled, target_porosity=0.387, strain_step=2e-3)
+    assert c.metadata["record"]["porosity"][-1] <= 0.387
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(), "target"),
+    (dict(target_porosity=0.6), "not below"),
+    (dict(target_stress=-1.0), "target_stress"),
+    (dict(target_stress=1e6, strain_step=0.5), "strain_step"),
+    (dict(target_stress=1e6, slab=10.0), "slab"),
+])
+def test_compaction_bad_input(settled, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        compact(settled, **kwargs)
