@@ -54,3 +54,20 @@ def test_compaction_to_a_porosity(settled):
 def test_compaction_bad_input(settled, kwargs, match):
     with pytest.raises(ValueError, match=match):
         compact(settled, **kwargs)
+
+
+def test_unreachable_target_porosity(settled):
+    with pytest.raises(ValueError, match="target_porosity"):
+        compact(settled, target_porosity=0.1)
+
+
+def test_blow_up_is_detected():
+    """A time step far too large for the stiffness must stop with a clear error, not NaN."""
+    import numpy as np
+
+    from md.protocols import _check_overlaps
+
+    x = np.array([[0.0, 0.0, 0.0], [3e-4, 0.0, 0.0]])
+    with pytest.raises(RuntimeError, match="settle: the integration blew up"):
+        _check_overlaps("settle", x, np.array([2e-4, 2e-4]), np.array([[0, 1]]),
+                        Box(2e-3, 2e-3, 0.0, 1e-3))
