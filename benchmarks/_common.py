@@ -23,7 +23,6 @@ import datetime  # noqa: E402
 import functools  # noqa: E402
 import platform  # noqa: E402
 import sys  # noqa: E402
-import tempfile  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -217,21 +216,9 @@ def _cpu_name():
 # ----------------------------------------------------------------------------- atomic output
 def _atomic(path, write):
     """Call ``write(tmp_path)`` on a temporary file next to ``path``, then rename it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + path.name + ".", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the result ordinary permissions
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    from rockcem._atomic import atomic_write
+
+    return atomic_write(path, write)
 
 
 def write_csv(frame, path, attrs=None):

@@ -54,6 +54,17 @@ def _remap_history(old_pairs, old_hist, new_pairs, n):
     return hist
 
 
+def _refresh_neighbors(stage, nl, hist, x, r, box, skin):
+    """Rebuild the neighbour list when a grain has moved more than skin/2 (histories carried
+    over) and check for blown-up overlaps; returns the list and histories to use next."""
+    if needs_rebuild(nl, x, box):
+        new = build_neighbors(x, r, box, skin)
+        hist = _remap_history(nl.pairs, hist, new.pairs, r.size)
+        nl = new
+    _check_overlaps(stage, x, r, nl.pairs, box)
+    return nl, hist
+
+
 def porosity(pack: Pack, *, bottom=None, top=None) -> float:
     """Porosity of the pack between ``bottom`` (default the floor) and ``top`` (default: the
     highest grain top minus one largest diameter, to leave out the rough free surface), from the
@@ -195,11 +206,7 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
             bar.update(1)
             if not np.all(np.isfinite(x)):
                 raise RuntimeError("settle: the integration blew up (non-finite positions)")
-            if needs_rebuild(nl, x, box):
-                new = build_neighbors(x, r, box, skin)
-                hist = _remap_history(nl.pairs, hist, new.pairs, n)
-                nl = new
-            _check_overlaps("settle", x, r, nl.pairs, box)
+            nl, hist = _refresh_neighbors("settle", nl, hist, x, r, box, skin)
             ke = 0.5 * np.sum(m[:, None] * v * v) / n
             if ke < kinetic_tolerance * e_scale and t_sim > 0.01:
                 break
@@ -297,11 +304,7 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
                        -np.inf, np.zeros((0, 3)), float(drag), fixed)
             if not np.all(np.isfinite(x)):
                 raise RuntimeError("compact: the integration blew up (non-finite positions)")
-            if needs_rebuild(nl, x, box):
-                new = build_neighbors(x, r, box, skin)
-                hist = _remap_history(nl.pairs, hist, new.pairs, n)
-                nl = new
-            _check_overlaps("compact", x, r, nl.pairs, box)
+            nl, hist = _refresh_neighbors("compact", nl, hist, x, r, box, skin)
             ke = 0.5 * np.sum(m[:, None] * v * v)
             pe = elastic_energy(x, r, nl.pairs, np.array([box.lx, box.ly]), mat.E_f)
             if ke <= rest_tolerance * max(pe, 1e-300):

@@ -363,21 +363,9 @@ def run_scene(scene: Scene, *, scheduler=None, progress=False):
 
 def write_dataset(ds, path) -> Path:
     """Write a Dataset to netCDF (netCDF4 engine) atomically: temporary file, then rename."""
-    import os
-    import tempfile
+    from ._atomic import atomic_write
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"))
 
 
 def _sweep_members(scene: Scene):

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
+
+from .._atomic import atomic_write
 
 
 from ._style import (_SUFFIX_FORMATS)
@@ -56,23 +57,8 @@ def save_figure(fig, path, *, dpi=150):
         folder = path.parent
         if not folder.is_dir():
             raise ValueError(f"folder {str(folder)!r} does not exist")
-        # O_EXCL with mode 0o666: a fresh name, permissions by the umask like a plain open().
-        for attempt in range(100):
-            tmp = folder / f".{path.name}.{os.getpid()}.{attempt}.tmp"
-            try:
-                fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-                break
-            except FileExistsError:
-                continue
-        else:
-            raise OSError(f"could not create a temporary file next to {str(path)!r}")
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                fig.savefig(fh, format=fmt, dpi=dpi, bbox_inches="tight")
-            os.replace(tmp, path)
-        except BaseException:
-            tmp.unlink(missing_ok=True)
-            raise
+        atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=dpi,
+                                                   bbox_inches="tight"))
     finally:
         plt.close(fig)
     return path
