@@ -10,9 +10,9 @@ are being built.
 
 from .contact import QUARTZ, GrainMaterial
 from .neighbors import build_neighbors, needs_rebuild
-from .protocols import coordination_number, porosity, settle
+from .protocols import compact, coordination_number, porosity, prepare_pack, settle
 from .space import Box
 from .state import Pack, load_pack, save_pack
 
 __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_rebuild", "settle",
-           "porosity", "coordination_number", "save_pack", "load_pack"]
+           "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack"]

@@ -15,7 +15,7 @@ from .neighbors import build_neighbors, needs_rebuild
 from .space import Box
 from .state import Pack
 
-__all__ = ["settle", "compact", "porosity", "coordination_number"]
+__all__ = ["settle", "compact", "prepare_pack", "porosity", "coordination_number"]
 
 GRAVITY = 9.81
 #: Largest overlap, as a fraction of the smaller radius, before a run is declared blown up (a
@@ -334,3 +334,43 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
     bar.close()
     return dataclasses.replace(cur, metadata={**pack.metadata, "record": record,
                                               "strain_step": strain_step, "slab": slab})
+
+
+def prepare_pack(workdir, *, settle_options=None, compact_options=None, progress=False) -> Pack:
+    """Settle then compact a pack, saving each stage in ``workdir`` and resuming from the last
+    saved one: ``settle.nc`` and ``compact.nc``. An interrupted run loses at most the stage it
+    was in; a finished stage is never recomputed (delete its file to redo it).
+
+    Parameters
+    ----------
+    workdir : path
+        Folder for the stage files (created if missing).
+    settle_options, compact_options : dict, optional
+        Keyword arguments of :func:`settle` and :func:`compact`; without ``compact_options`` the
+        settled pack is returned.
+    progress : bool
+        Progress bars.
+
+    Returns
+    -------
+    Pack
+    """
+    from pathlib import Path
+
+    from .state import load_pack, save_pack
+
+    folder = Path(workdir)
+    folder.mkdir(parents=True, exist_ok=True)
+    settled_file, compacted_file = folder / "settle.nc", folder / "compact.nc"
+    if compact_options is not None and compacted_file.exists():
+        return load_pack(compacted_file)
+    if settled_file.exists():
+        pack = load_pack(settled_file)
+    else:
+        pack = settle(**(settle_options or {}), progress=progress)
+        save_pack(pack, settled_file)
+    if compact_options is None:
+        return pack
+    pack = compact(pack, **compact_options, progress=progress)
+    save_pack(pack, compacted_file)
+    return pack

@@ -71,3 +71,24 @@ def test_blow_up_is_detected():
     with pytest.raises(RuntimeError, match="settle: the integration blew up"):
         _check_overlaps("settle", x, np.array([2e-4, 2e-4]), np.array([[0, 1]]),
                         Box(2e-3, 2e-3, 0.0, 1e-3))
+
+
+def test_prepare_pack_resumes_from_saved_stages(tmp_path, monkeypatch):
+    import md.protocols as P
+
+    calls = []
+    real_settle, real_compact = P.settle, P.compact
+    monkeypatch.setattr(P, "settle", lambda **k: calls.append("settle") or real_settle(**k))
+    monkeypatch.setattr(P, "compact", lambda p, **k: calls.append("compact") or real_compact(p, **k))
+    opts = dict(size=(3, 3, 6), fall_stiffness_factor=1e-3, seed=2, kinetic_tolerance=1e-5)
+    first = P.prepare_pack(tmp_path, settle_options=opts,
+                           compact_options=dict(target_stress=1e6))
+    assert calls == ["settle", "compact"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["compact.nc", "settle.nc"]
+    (tmp_path / "compact.nc").unlink()           # as if interrupted during compaction
+    again = P.prepare_pack(tmp_path, settle_options=opts,
+                           compact_options=dict(target_stress=1e6))
+    assert calls == ["settle", "compact", "compact"]     # the settled stage was not redone
+    np.testing.assert_allclose(again.positions, first.positions, rtol=1e-12)
+    done = P.prepare_pack(tmp_path, settle_options=opts, compact_options=dict(target_stress=1e6))
+    assert calls == ["settle", "compact", "compact"] and done.stage == "compact"
