@@ -83,7 +83,8 @@ class SandstonePorosity(NamedTuple):
     """Porosity and cement of a compacting, cementing sandstone (fractions)."""
 
     porosity: np.ndarray            #: :math:`\max(\mathrm{IGV} - \phi_p, 0)`
-    cement_fraction: np.ndarray     #: cement that fits in the IGV, :math:`\min(\phi_p, \mathrm{IGV})`
+    #: cement that fits in the IGV, :math:`\min(\phi_p, \mathrm{IGV})` (never decreasing)
+    cement_fraction: np.ndarray
     intergranular_volume: np.ndarray
     pore_filled: np.ndarray         #: bool: the cement kinetics would overfill the pores here
 

@@ -30,7 +30,8 @@ def _present(path: BurialPath, fields: dict):
     if path.depth.ndim == 1:
         return path.depth, fields, {"time": path.time}
     if path.depth.ndim != 2:
-        raise ValueError("a path table must have one package axis: depth of shape (packages, nodes)")
+        raise ValueError("a path table must have one package axis: depth of shape "
+                         "(packages, nodes)")
     depth = path.depth[:, -1]
     order = np.argsort(depth, kind="stable")
     end = {k: np.asarray(v)[..., -1][order] for k, v in fields.items()}

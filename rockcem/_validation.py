@@ -50,7 +50,8 @@ def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> 
     total = sum_phases(fractions)
     if np.any(np.abs(total - 1.0) > atol):
         worst = total.flat[np.argmax(np.abs(total - 1.0))]
-        raise ValueError(f"{name} must sum to 1 along the last axis (phases); got a sum of {worst:g}")
+        raise ValueError(f"{name} must sum to 1 along the last axis (phases); "
+                         f"got a sum of {worst:g}")
     return fractions
 
 

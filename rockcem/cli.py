@@ -14,7 +14,8 @@ __all__ = ["main"]
 def _materials(args) -> int:
     from .materials import fluids, minerals
 
-    print(f"{'mineral':<22}{'K GPa':>8}{'G GPa':>8}{'rho g/cm3':>11}{'vp km/s':>9}{'vs km/s':>9}  source")
+    print(f"{'mineral':<22}{'K GPa':>8}{'G GPa':>8}{'rho g/cm3':>11}{'vp km/s':>9}"
+          f"{'vs km/s':>9}  source")
     for name, m in minerals().items():
         print(f"{name:<22}{m.K:8.2f}{m.G:8.2f}{m.rho:11.3f}{m.vp:9.3f}{m.vs:9.3f}  {m.source}")
     print()

@@ -58,7 +58,8 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     K_dry = check_positive("K_dry", as_array("K_dry", K_dry), allow_zero=True)
     K_dry, K_min, K_fluid, phi = broadcast(K_dry=K_dry, K_min=K_min, K_fluid=K_fluid, phi=phi)
     if np.any(K_dry > K_min * (1.0 + 1e-12)):
-        raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its mineral)")
+        raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its "
+                         "mineral)")
     alpha = 1.0 - K_dry / K_min
     denom = (alpha - phi) * K_fluid + phi * K_min
     ok = denom > 0.0

@@ -93,7 +93,8 @@ def _pq_spheroid(K_m, G_m, K_i, G_i, theta, f):
     F5 = A * (-f + R * (ft - 4.0 / 3.0)) + B * theta * c
     F6 = 1.0 + A * (1.0 + f - R * ft) + B * (1.0 - theta) * c
     F7 = 2.0 + 0.25 * A * (3.0 * f + 9.0 * theta - R * (3.0 * f + 5.0 * theta)) + B * theta * c
-    F8 = A * (1.0 - 2.0 * R + 0.5 * f * (R - 1.0) + 0.5 * theta * (5.0 * R - 3.0)) + B * (1.0 - theta) * c
+    F8 = (A * (1.0 - 2.0 * R + 0.5 * f * (R - 1.0) + 0.5 * theta * (5.0 * R - 3.0))
+          + B * (1.0 - theta) * c)
     F9 = A * ((R - 1.0) * f - R * theta) + B * theta * c
     P = F1 / F2                                   # T_iijj / 3, T_iijj = 3 F1 / F2
     Q = (2.0 / F3 + 1.0 / F4 + (F4 * F5 + F6 * F7 - F8 * F9) / (F2 * F4)) / 5.0
@@ -278,9 +279,11 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     for the effective :math:`(K, \mu)`, with P and Q of :func:`berryman_pq` evaluated in the
     effective medium ([Berryman1980]_). The solver is a vectorised Newton iteration on all points
     together (finite-difference Jacobian at the first step, Broyden updates after), started from
-    the Hashin–Shtrikman upper bound and damped so that :math:`\mu` never drops by more than a factor 10 per step. Where the shear
+    the Hashin–Shtrikman upper bound and damped so that :math:`\mu` never drops by more than a
+    factor 10 per step. Where the shear
     modulus of the composite vanishes (fluid-supported suspensions, crack densities beyond
-    percolation) the iteration drives :math:`\mu \to 0`; below :math:`10^{-12} \max_i K_i` the point is set
+    percolation) the iteration drives :math:`\mu \to 0`; below :math:`10^{-12} \max_i K_i` the
+    point is set
     to its exact limit (:math:`\mu = 0`, :math:`K` = Reuss average, since any inclusion in a fluid
     is under hydrostatic stress).
 

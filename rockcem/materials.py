@@ -121,7 +121,8 @@ def minerals() -> dict[str, Mineral]:
 def fluids() -> dict[str, Fluid]:
     """The fluid catalogue, ``{name: Fluid}``."""
     table = read_toml("materials", "fluids.toml")
-    return {k: Fluid(float(v["K"]), float(v["rho"]), k, v.get("source", "")) for k, v in table.items()}
+    return {k: Fluid(float(v["K"]), float(v["rho"]), k, v.get("source", ""))
+            for k, v in table.items()}
 
 
 def _lookup(kind: str, catalogue: dict, name: str):

@@ -31,17 +31,20 @@ __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "shipped_scenes",
 _REQUIRED = object()
 
 #: Every scene key: ``{section: {key: (default, type, unit, description)}}``; ``_REQUIRED``
-#: marks keys without a default; type is "number", "integer", "string" or "strings". The ``models`` section holds one table per model label.
+#: marks keys without a default; type is "number", "integer", "string" or "strings". The
+#: ``models`` section holds one table per model label.
 SCHEMA: dict[str, dict[str, tuple]] = {
     "scene": {
         "name": (_REQUIRED, "string", "", "scene name (used for the default output file)"),
         "description": ("", "string", "", "free text"),
         "lithology": (_REQUIRED, "string", "", "'sandstone' or 'shale'"),
-        "outputs": (None, "strings", "", "variables to compute and write (default: all for the lithology)"),
+        "outputs": (None, "strings", "",
+                    "variables to compute and write (default: all for the lithology)"),
         "output": (None, "string", "", "netCDF file to write (default: <name>.nc)"),
     },
     "path": {
-        "kind": ("linear", "string", "", "'linear': the linear basin model of Carcione et al. 2022, eq. 2"),
+        "kind": ("linear", "string", "",
+                 "'linear': the linear basin model of Carcione et al. 2022, eq. 2"),
         "gradient": (30.0, "number", "degC/km", "geothermal gradient G"),
         "sedimentation_rate": (40.0, "number", "m/Myr", "burial rate S (or give heating_rate)"),
         "heating_rate": (None, "number", "degC/Myr", "H = G S; if given, S = H / G"),
@@ -50,7 +53,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "depth_step": (10.0, "number", "m", "depth resolution of the profile"),
     },
     "pressure": {
-        "sediment_density": (2.5, "number", "g/cm3", "mean sediment density for the lithostatic pressure"),
+        "sediment_density": (2.5, "number", "g/cm3",
+                             "mean sediment density for the lithostatic pressure"),
         "water_density": (1.04, "number", "g/cm3", "water density for the hydrostatic pressure"),
     },
     "sandstone": {
@@ -81,7 +85,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "A": (3.0, "number", "", "Krief exponent"),
     },
     "models.self_consistent": {
-        "aspect_ratio": (_REQUIRED, "number", "", "pore aspect ratio (0.17 shale, 0.108 sandstone)"),
+        "aspect_ratio": (_REQUIRED, "number", "",
+                         "pore aspect ratio (0.17 shale, 0.108 sandstone)"),
         "tol": (1e-12, "number", "", "Newton tolerance"),
     },
     "models.generalized_gassmann": {
