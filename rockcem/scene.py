@@ -336,13 +336,6 @@ def shipped_scenes() -> dict[str, Path]:
 
 
 # ----------------------------------------------------------------------------- running
-def _member_dataset(scene: Scene):
-    """Run one scene (no sweep) and return its Dataset."""
-    from .runner import evaluate
-
-    return evaluate(scene)
-
-
 def run_scene(scene: Scene, *, scheduler=None, progress=False):
     """Run a scene: burial → rock state → models → one ``xarray.Dataset``.
 
