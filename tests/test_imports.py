@@ -28,10 +28,13 @@ def test_cli_bad_command_exit_code_2():
 
 
 def test_datasets_found_outside_the_source_tree(tmp_path):
-    """The data files are found by the *installed* package (run from outside the checkout, so
-    the import is the installed wheel in CI, not the source tree)."""
-    code = ("from rockcem.scene import shipped_scenes; from rockcem.materials import mineral; "
-            "print(len(shipped_scenes()) > 0 and mineral('quartz').K == 40.0)")
+    """The installed package has all its sub-packages and data files (run from outside the
+    checkout, so the import is the installed wheel in CI, not the source tree)."""
+    code = ("import rockcem.plots, burial, md; "
+            "from rockcem.scene import shipped_scenes; from rockcem.materials import mineral; "
+            "from rockcem.variables import variable_attrs; "
+            "print(len(shipped_scenes()) > 0 and mineral('quartz').K == 40.0 "
+            "and variable_attrs('vp')['units'] == 'km s-1')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=tmp_path, check=True)
     assert out.stdout.strip() == "True"
