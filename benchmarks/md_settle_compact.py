@@ -13,7 +13,7 @@ Output: ``benchmarks/results/md_settle_compact.{csv,nc}``.
 Run: ``python benchmarks/md_settle_compact.py [--seeds 3] [--no-paper]``
 """
 
-from _common import environment_attrs, result_path, write_csv, write_netcdf
+from _common import RESULTS, environment_attrs, result_path, write_csv, write_netcdf
 
 import argparse  # noqa: E402
 import json  # noqa: E402
@@ -22,7 +22,7 @@ import time  # noqa: E402
 import pandas as pd  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from md.protocols import compact, settle  # noqa: E402
+from md.protocols import prepare_pack, settle  # noqa: E402
 
 
 def main(argv=None):
@@ -44,9 +44,13 @@ def main(argv=None):
                              stress_zz_MPa=float("nan")))
             print(rows[-1], flush=True)
     if not args.no_paper:
+        # Stages are saved in results/paper_sample/ and resumed: a run interrupted during the
+        # compaction does not settle again (delete the folder to start over).
+        workdir = RESULTS / "paper_sample"
+        settle_options = dict(size=(8, 8, 32), fall_stiffness_factor=1e-3, seed=0,
+                              kinetic_tolerance=1e-5)
         t = time.perf_counter()
-        p = settle(size=(8, 8, 32), fall_stiffness_factor=1e-3, seed=0, kinetic_tolerance=1e-5,
-                   progress=True)
+        p = prepare_pack(workdir, settle_options=settle_options, progress=True)
         rows.append(dict(case="paper_sample_settled", fall_stiffness_factor=1e-3, seed=0,
                          n_grains=p.n_grains, porosity=p.metadata["porosity"],
                          coordination_number=p.metadata["coordination_number"],
@@ -54,7 +58,9 @@ def main(argv=None):
                          stress_zz_MPa=float("nan")))
         print(rows[-1], flush=True)
         t = time.perf_counter()
-        c = compact(p, target_porosity=0.386, strain_step=1e-3, progress=True)
+        c = prepare_pack(workdir, settle_options=settle_options,
+                         compact_options=dict(target_porosity=0.386, strain_step=1e-3),
+                         progress=True)
         rec = c.metadata["record"]
         rows.append(dict(case="paper_sample_compacted", fall_stiffness_factor=1e-3, seed=0,
                          n_grains=c.n_grains, porosity=rec["porosity"][-1],
