@@ -13,7 +13,7 @@ import numpy as np
 
 from .state import Pack
 
-__all__ = ["CementLattice", "cement_lattice", "CONTACT", "SURFACE", "BODY"]
+__all__ = ["CementLattice", "cement_lattice", "grow_cement", "CONTACT", "SURFACE", "BODY"]
 
 #: Cell classes: touching two or more grains, one grain, or none.
 CONTACT, SURFACE, BODY = 2, 1, 0
@@ -106,3 +106,106 @@ def cement_lattice(pack: Pack, resolution=4.0, *, reach=None) -> CementLattice:
     pore = np.flatnonzero(solid == 0).astype(np.int32)
     kind = np.minimum(touches[pore], 2).astype(np.int8)
     return CementLattice(cw, (nx, ny, nz), z0, pore, kind, dist[pore].astype(np.float32))
+
+
+def _neighbour_map(lat: CementLattice):
+    """Flat-cell -> pore position (-1 for solid) and the 6 face neighbours of each pore cell."""
+    nx, ny, nz = lat.shape
+    where = np.full(nx * ny * nz, -1, dtype=np.int64)
+    where[lat.index] = np.arange(lat.index.size)
+    i = lat.index % nx
+    j = (lat.index // nx) % ny
+    k = lat.index // (nx * ny)
+    nbrs = []
+    for di, dj, dk in ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)):
+        kk = k + dk
+        ok = (kk >= 0) & (kk < nz)
+        flat = ((i + di) % nx) + nx * (((j + dj) % ny) + ny * np.clip(kk, 0, nz - 1))
+        nbrs.append(np.where(ok, where[flat], -1))
+    return np.stack(nbrs, axis=1)
+
+
+def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> np.ndarray:
+    """Cement the pore cells of a lattice up to a saturation :math:`S_c` (fraction of pore cells).
+
+    Schemes (García & Medina, Sects. III C–E):
+
+    * ``"contact"``: the contact cells first (closest to the grains first), then growth into the
+      empty face neighbours of the cement, always the one closest to a grain surface next;
+    * ``"coating"``: cells by increasing distance to the grain surface (an even coat);
+    * ``"pore_body"``: random surface cells as seeds, then growth into empty face neighbours of
+      the cement chosen at random with probability proportional to their distance to the grains
+      (cement grows into pore bodies). Reproducible with ``seed``.
+
+    Parameters
+    ----------
+    lat : CementLattice
+    saturation : float
+        :math:`S_c`, in [0, 1].
+    scheme : {"contact", "coating", "pore_body"}
+    seed : int, keyword-only
+        Random seed of the pore-body scheme.
+
+    Returns
+    -------
+    ndarray of bool
+        Cemented pore cells (aligned with ``lat.index``); ``round(S_c n)`` of them.
+    """
+    import heapq
+
+    if not 0.0 <= saturation <= 1.0:
+        raise ValueError(f"saturation must lie in [0, 1]; got {saturation}")
+    if scheme not in ("contact", "coating", "pore_body"):
+        raise ValueError(f"scheme must be 'contact', 'coating' or 'pore_body'; got {scheme!r}")
+    n = lat.index.size
+    target = int(round(saturation * n))
+    cemented = np.zeros(n, dtype=bool)
+    if target == 0:
+        return cemented
+    dist = lat.distance.astype(float)
+    if scheme == "coating":
+        order = np.lexsort((np.arange(n), dist))
+        cemented[order[:target]] = True
+        return cemented
+    nbrs = _neighbour_map(lat)
+    if scheme == "contact":
+        contact = np.flatnonzero(lat.kind == CONTACT)
+        first = contact[np.lexsort((contact, dist[contact]))][:target]
+        cemented[first] = True
+        count = first.size
+        heap = [(dist[c], int(c)) for c in np.unique(nbrs[first].ravel()) if c >= 0
+                and not cemented[c]]
+        heapq.heapify(heap)
+        while count < target:
+            if not heap:                           # disconnected pores: seed the closest left
+                rest = np.flatnonzero(~cemented)
+                heap = [(dist[rest[np.argmin(dist[rest])]], int(rest[np.argmin(dist[rest])]))]
+            _, c = heapq.heappop(heap)
+            if cemented[c]:
+                continue
+            cemented[c] = True
+            count += 1
+            for nb in nbrs[c]:
+                if nb >= 0 and not cemented[nb]:
+                    heapq.heappush(heap, (dist[nb], int(nb)))
+        return cemented
+    # Pore body: random surface seeds, then distance-weighted random growth.
+    rng = np.random.default_rng(seed)
+    surface = np.flatnonzero(lat.kind == SURFACE)
+    n_seeds = max(1, min(target, surface.size // 50 + 1))
+    seeds = rng.choice(surface if surface.size else np.arange(n), size=n_seeds, replace=False)
+    cemented[seeds] = True
+    count = n_seeds
+    frontier = {int(c) for c in nbrs[seeds].ravel() if c >= 0 and not cemented[c]}
+    while count < target:
+        if not frontier:
+            rest = np.flatnonzero(~cemented)
+            frontier = {int(rng.choice(rest))}
+        cand = np.fromiter(frontier, dtype=np.int64)
+        w = np.maximum(dist[cand], 1e-12)
+        c = int(cand[rng.choice(cand.size, p=w / w.sum())])
+        frontier.discard(c)
+        cemented[c] = True
+        count += 1
+        frontier.update(int(nb) for nb in nbrs[c] if nb >= 0 and not cemented[nb])
+    return cemented

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from md.cement import BODY, CONTACT, SURFACE, cement_lattice
+from md.cement import BODY, CONTACT, SURFACE, cement_lattice, grow_cement
 from md.contact import QUARTZ
 from md.space import Box
 from md.state import Pack
@@ -74,3 +74,51 @@ def test_two_touching_grains_have_contact_cells():
 def test_bad_input(rng, kwargs, match):
     with pytest.raises(ValueError, match=match):
         cement_lattice(make_pack(rng), **kwargs)
+
+
+@pytest.fixture(scope="module")
+def lattice():
+    rng = np.random.default_rng(5)
+    return cement_lattice(make_pack(rng, n=14), resolution=3.0)
+
+
+@pytest.mark.parametrize("scheme", ["contact", "coating", "pore_body"])
+def test_growth_reaches_the_saturation(lattice, scheme):
+    for s in (0.0, 0.05, 0.2, 1.0):
+        cem = grow_cement(lattice, s, scheme, seed=3)
+        assert cem.sum() == round(s * lattice.index.size)
+
+
+def test_coating_fills_by_distance_and_nests(lattice):
+    a = grow_cement(lattice, 0.1, "coating")
+    b = grow_cement(lattice, 0.3, "coating")
+    assert np.all(b[a])                                    # nested
+    assert lattice.distance[a].max() <= lattice.distance[~b].min()
+
+
+def test_contact_cement_starts_at_the_contacts(lattice):
+    n_contact = int(np.sum(lattice.kind == CONTACT))
+    s = 0.5 * n_contact / lattice.index.size
+    cem = grow_cement(lattice, s, "contact")
+    assert np.all(lattice.kind[cem] == CONTACT)
+    more = grow_cement(lattice, min(1.0, 3 * n_contact / lattice.index.size), "contact")
+    assert np.all(more[lattice.kind == CONTACT])
+
+
+def test_pore_body_cement_sits_farther_from_grains_and_is_seeded(lattice):
+    a = grow_cement(lattice, 0.2, "pore_body", seed=1)
+    b = grow_cement(lattice, 0.2, "pore_body", seed=1)
+    np.testing.assert_array_equal(a, b)
+    coat = grow_cement(lattice, 0.2, "coating")
+    contact = grow_cement(lattice, 0.2, "contact")
+    d = lattice.distance
+    # Pore-body cement lies farther from the grains than the average pore cell; contact and
+    # coating cement lie closer (the paper's three microstructures).
+    assert d[a].mean() > d.mean() > d[contact].mean() >= d[coat].mean()
+
+
+@pytest.mark.parametrize("kwargs,match", [(dict(saturation=1.5), "saturation"),
+                                          (dict(saturation=0.1, scheme="random"), "scheme")])
+def test_growth_bad_input(lattice, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        grow_cement(lattice, **kwargs)
