@@ -5,7 +5,17 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["pair_force", "accumulate_forces"]
+__all__ = ["pair_force", "accumulate_forces", "branch_vector"]
+
+
+@njit(cache=True)
+def branch_vector(x, i, j, lx, ly):
+    """Vector from grain i to grain j, minimum image in x and y (periodic lengths lx, ly)."""
+    dx = x[j, 0] - x[i, 0]
+    dy = x[j, 1] - x[i, 1]
+    dx -= lx * np.rint(dx / lx)
+    dy -= ly * np.rint(dy / ly)
+    return dx, dy, x[j, 2] - x[i, 2]
 
 
 @njit(cache=True)
@@ -72,11 +82,7 @@ def accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref
     for p in range(pairs.shape[0]):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        dx = x[j, 0] - x[i, 0]
-        dy = x[j, 1] - x[i, 1]
-        dz = x[j, 2] - x[i, 2]
-        dx -= lx * np.rint(dx / lx)
-        dy -= ly * np.rint(dy / ly)
+        dx, dy, dz = branch_vector(x, i, j, lx, ly)
         d = np.sqrt(dx * dx + dy * dy + dz * dz)
         xi_n = r[i] + r[j] - d
         if xi_n <= 0.0:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._kernels_contact import accumulate_forces, pair_force
+from ._kernels_contact import accumulate_forces, branch_vector, pair_force
 
 __all__ = ["verlet_run", "elastic_energy", "floor_forces"]
 
@@ -47,11 +47,7 @@ def elastic_energy(x, r, pairs, box_l, E_f):
     for p in range(pairs.shape[0]):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        dx = x[j, 0] - x[i, 0]
-        dy = x[j, 1] - x[i, 1]
-        dz = x[j, 2] - x[i, 2]
-        dx -= box_l[0] * np.rint(dx / box_l[0])
-        dy -= box_l[1] * np.rint(dy / box_l[1])
+        dx, dy, dz = branch_vector(x, i, j, box_l[0], box_l[1])
         xi = r[i] + r[j] - np.sqrt(dx * dx + dy * dy + dz * dz)
         if xi > 0.0:
             R_f = r[i] * r[j] / (r[i] + r[j])
