@@ -8,6 +8,7 @@ scene asking for one model computes one model.
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import json
 from functools import cached_property
@@ -24,6 +25,15 @@ _MODEL_LABELS_LONG = {
     "generalized_gassmann": "Model 3: multi-mineral Krief + generalized Gassmann",
     "patchy_cement": "Model 4: patchy cement + Gassmann",
 }
+
+
+@contextlib.contextmanager
+def _section(name):
+    """Prefix a ValueError raised while evaluating a scene section with the section's name."""
+    try:
+        yield
+    except ValueError as exc:
+        raise ValueError(f"scene section [{name}]: {exc}") from None
 
 
 class _Pipeline:
@@ -44,56 +54,46 @@ class _Pipeline:
             if p["heating_rate"] <= 0:
                 raise ValueError("scene key path.heating_rate must be > 0")
             rate = p["heating_rate"] / p["gradient"] * 1000.0 if p["gradient"] > 0 else -1.0
-        try:
+        with _section("path"):
             return burial.linear_path(p["gradient"], rate, p["surface_temperature"],
                                       p["max_depth"], depth_step=p["depth_step"])
-        except ValueError as exc:
-            raise ValueError(f"scene section [path]: {exc}") from None
 
     @cached_property
     def pressures(self):
         import burial
 
-        try:
+        with _section("pressure"):
             return burial.pressures(self.path, **self.sec["pressure"])
-        except ValueError as exc:
-            raise ValueError(f"scene section [pressure]: {exc}") from None
 
     @cached_property
     def sandstone(self):
         import burial
 
         s = self.lith
-        try:
+        with _section("sandstone"):
             phip = burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
                                         s["quartz_fraction"], s["clay_coating"],
                                         start_temperature=s["start_temperature"])
             igv = burial.intergranular_volume(s["porosity0"], self.pressures.max_effective,
                                               s["igv_final"], s["beta"])
-        except ValueError as exc:
-            raise ValueError(f"scene section [sandstone]: {exc}") from None
         return burial.sandstone_porosity(igv, phip)
 
     @cached_property
     def shale_porosity(self):
         import burial
 
-        try:
+        with _section("shale"):
             return burial.athy_porosity(self.lith["porosity0"], self.pressures.max_effective,
                                         self.lith["beta"])
-        except ValueError as exc:
-            raise ValueError(f"scene section [shale]: {exc}") from None
 
     @cached_property
     def smectite(self):
         import burial
 
         s = self.lith
-        try:
+        with _section("shale"):
             return burial.smectite_fraction(self.path, s["r0"], s["order"],
                                             s["activation_energy"], s["frequency_factor"])
-        except ValueError as exc:
-            raise ValueError(f"scene section [shale]: {exc}") from None
 
     @cached_property
     def materials(self):
@@ -132,7 +132,7 @@ class _Pipeline:
 
         minerals, fluid = self.materials
         knobs = self.sec[f"models.{label}"]
-        try:
+        with _section(f"models.{label}"):
             if label == "patchy_cement":
                 s = self.sandstone
                 return models.patchy_cement_model(
@@ -143,8 +143,6 @@ class _Pipeline:
                   "self_consistent": models.self_consistent_model,
                   "generalized_gassmann": models.generalized_gassmann_model}[label]
             return fn(minerals, self.solid_fractions, self.porosity, fluid, **knobs)
-        except ValueError as exc:
-            raise ValueError(f"scene section [models.{label}]: {exc}") from None
 
     def state_variable(self, name):
         if name == "time":
