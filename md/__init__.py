@@ -3,11 +3,15 @@
 SI units inside (m, kg, s, Pa). Built so far: Hertz–Mindlin contacts with restitution-calibrated
 damping and Coulomb friction (:mod:`md.contact`), the periodic box and cell-list neighbour search
 (:mod:`md.space`, :mod:`md.neighbors`), velocity-Verlet integration with the time step from the
-shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`) and packs saved to
-netCDF between stages (:mod:`md.state`). Compaction, cementation and the acoustic pulse test
-are being built.
+shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`), compaction
+(:func:`md.compact`), packs saved to netCDF between stages (:mod:`md.state`), the cement lattice
+with contact, coating and pore-body growth (:mod:`md.cement`) and the linearised acoustic stage
+with the pulse test and static moduli (:mod:`md.acoustic`).
 """
 
+from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
+from .cement import (HARD_CEMENT, SOFT_CEMENT, CementLattice, CementMaterial, cement_lattice,
+                     grow_cement)
 from .contact import QUARTZ, GrainMaterial
 from .neighbors import build_neighbors, needs_rebuild
 from .protocols import compact, coordination_number, porosity, prepare_pack, settle
@@ -15,4 +19,7 @@ from .space import Box
 from .state import Pack, load_pack, save_pack
 
 __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_rebuild", "settle",
-           "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack"]
+           "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack",
+           "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
+           "grow_cement", "AcousticSystem", "acoustic_system", "cement_block", "pulse_test",
+           "static_modulus"]

@@ -13,10 +13,144 @@ import numpy as np
 
 from .state import Pack
 
-__all__ = ["CementLattice", "cement_lattice", "grow_cement", "CONTACT", "SURFACE", "BODY"]
+__all__ = ["CementLattice", "cement_lattice", "grow_cement", "CONTACT", "SURFACE", "BODY",
+           "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "lattice_constants",
+           "LATTICE_OFFSETS"]
 
 #: Cell classes: touching two or more grains, one grain, or none.
 CONTACT, SURFACE, BODY = 2, 1, 0
+
+
+#: The 9 lattice-neighbour offsets of one half of the 18-neighbour stencil (6 faces, 12 edges of
+#: a cube; the other half are their negatives), in cells.
+LATTICE_OFFSETS = np.array([(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, -1, 0), (1, 0, 1),
+                            (1, 0, -1), (0, 1, 1), (0, 1, -1)], dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class CementMaterial:
+    """An isotropic cement of the MD engine (SI units; García & Medina, Table II).
+
+    Parameters
+    ----------
+    vp, vs : float
+        P and S velocities, m/s, with :math:`-1 < \\nu \\le 1/4` (``4/3 vs**2 < vp**2 <=
+        3 vs**2``): the range the 18-neighbour lattice of eq. 6 can represent with non-negative
+        spring constants (see :func:`lattice_constants`).
+    density : float
+        kg/m³, ``> 0``.
+    """
+
+    vp: float
+    vs: float
+    density: float
+
+    def __post_init__(self):
+        for name in ("vp", "vs", "density"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float, np.floating)) and np.isfinite(value)
+                    and value > 0):
+                raise ValueError(f"cement {name} must be a finite number > 0; got {value!r}")
+        if not 4.0 / 3.0 * self.vs**2 < self.vp**2 <= 3.0 * self.vs**2 * (1 + 1e-12):
+            raise ValueError(
+                f"cement vp/vs = {self.vp / self.vs:.4g} is outside (sqrt(4/3), sqrt(3)] "
+                "(Poisson ratio -1 to 0.25), the range the 18-neighbour cement lattice represents")
+
+    @property
+    def shear_modulus(self) -> float:
+        """:math:`G_c = \\rho_c V_{sc}^2`, Pa."""
+        return self.density * self.vs**2
+
+    @property
+    def p_modulus(self) -> float:
+        """:math:`M_c = \\rho_c V_{pc}^2`, Pa."""
+        return self.density * self.vp**2
+
+    @property
+    def poisson_ratio(self) -> float:
+        """:math:`\\nu_c = (V_p^2 - 2V_s^2) / (2(V_p^2 - V_s^2))`."""
+        return (self.vp**2 - 2 * self.vs**2) / (2 * (self.vp**2 - self.vs**2))
+
+    @property
+    def young_modulus(self) -> float:
+        """:math:`E_c = 2 G_c (1 + \\nu_c)`, Pa."""
+        return 2.0 * self.shear_modulus * (1.0 + self.poisson_ratio)
+
+
+#: Hard (quartz-like) and soft (clay-like) cement of García & Medina, Table II.
+HARD_CEMENT = CementMaterial(3000.0, 1800.0, 2650.0)
+SOFT_CEMENT = CementMaterial(1500.0, 900.0, 2650.0)
+
+
+def lattice_constants(cement: CementMaterial, cell_width, rule="waves"):
+    """Spring constants :math:`C_n`, :math:`C` and particle mass :math:`m_c` of the cement lattice.
+
+    A cement particle interacts with its 18 nearest lattice neighbours by (García & Medina,
+    eq. 6; O'Brien & Bean 2004)
+
+    .. math:: \\mathbf f = C_n (\\mathbf u_{12}\\cdot\\hat{\\mathbf n})\\hat{\\mathbf n}
+              + \\frac{C}{|\\mathbf x_{12}|^2}\\mathbf u_{12},
+
+    the same :math:`C_n` and :math:`C` for face (:math:`|x| = c_w`) and edge
+    (:math:`|x| = \\sqrt2 c_w`) neighbours. Summing the strain energy of the 9 bonds per node
+    over the cell volume :math:`c_w^3` for a displacement field :math:`u_z(z)` (a P wave, or
+    uniaxial strain) and :math:`u_x(z)` (an S wave, or simple shear) gives the wave moduli of
+    this lattice:
+
+    .. math:: \\rho_c V_p^2 = \\frac{3C_n}{c_w} + \\frac{3C}{c_w^3}, \\qquad
+              \\rho_c V_s^2 = \\frac{C_n}{c_w} + \\frac{3C}{c_w^3}.
+
+    These have the form of the paper's eq. 8 with 3 in place of its 2. (The bending term of
+    eq. 6 resists rigid rotation, so the lattice's pure-shear modulus, :math:`C_n/c_w +
+    3C/2c_w^3`, differs from its S-wave modulus; waves and simple shear carry rotation, and
+    those are what the pulse test measures.)
+
+    ``rule="waves"`` (default) solves these for the cement's velocities:
+    :math:`C_n = \\tfrac12\\rho_c(V_p^2 - V_s^2)c_w` (the paper's eq. 9) and
+    :math:`C = \\tfrac16\\rho_c(3V_s^2 - V_p^2)c_w^3`, non-negative for a Poisson ratio up to
+    1/4. Static sparse solves and pulse tests on a cement block check both velocities
+    (``tests/md/test_acoustic.py``).
+
+    ``rule="paper"`` uses eq. 9 as derived from eq. 8: the same :math:`C_n` and
+    :math:`C = \\tfrac14\\rho_c(3V_s^2 - V_p^2)c_w^3`. (The printed eq. 9,
+    :math:`\\tfrac14\\rho_c(3V_p^2 - V_s^2)c_w^3`, contradicts eq. 8, from which subtracting the
+    two lines gives :math:`C_n` and the :math:`V_s` line then gives :math:`C`.) On this lattice
+    these constants make the cement 1 % fast in P and 3 % in S (Table II cements); kept to
+    reproduce the paper.
+
+    In both rules :math:`m_c = \\rho_c c_w^3` (eq. 9).
+
+    Parameters
+    ----------
+    cement : CementMaterial
+    cell_width : float
+        :math:`c_w`, m, ``> 0``.
+    rule : {"waves", "paper"}
+
+    Returns
+    -------
+    (float, float, float)
+        :math:`C_n` (N/m), :math:`C` (N m), :math:`m_c` (kg).
+
+    Examples
+    --------
+    >>> Cn, C, m = lattice_constants(HARD_CEMENT, 1e-5)
+    >>> vp2 = (3 * Cn / 1e-5 + 3 * C / 1e-15) / 2650.0
+    >>> vs2 = (Cn / 1e-5 + 3 * C / 1e-15) / 2650.0
+    >>> round(vp2**0.5, 6), round(vs2**0.5, 6)
+    (3000.0, 1800.0)
+    """
+    if not (np.isfinite(cell_width) and cell_width > 0):
+        raise ValueError(f"cell_width must be > 0 m; got {cell_width!r}")
+    rho, vp2, vs2 = cement.density, cement.vp**2, cement.vs**2
+    Cn = 0.5 * rho * (vp2 - vs2) * cell_width
+    if rule == "waves":
+        C = rho * (3.0 * vs2 - vp2) * cell_width**3 / 6.0
+    elif rule == "paper":
+        C = 0.25 * rho * (3.0 * vs2 - vp2) * cell_width**3
+    else:
+        raise ValueError(f"rule must be 'waves' or 'paper'; got {rule!r}")
+    return float(Cn), float(C), float(rho * cell_width**3)
 
 
 @dataclass(frozen=True)

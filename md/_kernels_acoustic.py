@@ -1,0 +1,235 @@
+"""Private numba kernels of the linearised acoustic stage (SI units).
+
+Two kinds of bonds act between particles (grains and cement particles):
+
+* *contact bonds* (grain–grain and grain–cement), each with its own unit normal ``nrm`` (from the
+  first particle to the second), normal and tangential stiffnesses ``kn``, ``kt`` and dashpots
+  ``gn``, ``gt``;
+* *lattice bonds* (cement–cement), uniform springs of one of the 9 stencil directions ``dirn``
+  (:data:`md.cement.LATTICE_OFFSETS`), with per-direction ``lat_kn``, ``lat_kt`` and normals,
+  stored as two int32 indices and one int8 code per bond.
+
+A bond with relative displacement :math:`\\mathbf d = \\mathbf u_j - \\mathbf u_i` pulls ``j`` back
+by :math:`-[k_t\\mathbf d + (k_n - k_t)(\\mathbf d\\cdot\\hat n)\\hat n]` (and the dashpot term with
+the relative velocity), and pushes ``i`` by the opposite force.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["lattice_bonds", "grain_cement_bonds", "contact_forces", "lattice_forces",
+           "gershgorin_rows", "leapfrog_run"]
+
+
+@njit(cache=True)
+def lattice_bonds(cells, where, nx, ny, nz, offsets, count_only, bi, bj, bd):
+    """Cement–cement bonds to the 18 nearest lattice neighbours (9 half-stencil offsets).
+
+    ``cells`` are the flat indices of the cemented cells, ``where[flat]`` the particle index of a
+    cemented cell (−1 otherwise). Periodic in x and y, bounded in z. With ``count_only`` the
+    bonds are only counted. Returns the number of bonds.
+    """
+    n = 0
+    for p in range(cells.shape[0]):
+        c = cells[p]
+        i = c % nx
+        j = (c // nx) % ny
+        k = c // (nx * ny)
+        for d in range(offsets.shape[0]):
+            kk = k + offsets[d, 2]
+            if kk < 0 or kk >= nz:
+                continue
+            ii = (i + offsets[d, 0]) % nx
+            jj = (j + offsets[d, 1]) % ny
+            q = where[ii + nx * (jj + ny * kk)]
+            if q < 0:
+                continue
+            if not count_only:
+                bi[n] = p
+                bj[n] = q
+                bd[n] = d
+            n += 1
+    return n
+
+
+@njit(cache=True)
+def grain_cement_bonds(x, r, where, lx, ly, z0, cw, nx, ny, nz, count_only, bi, bj, nrm):
+    """Grain–cement bonds: every cemented cell whose cube intersects a grain's sphere.
+
+    ``bi`` gets the grain, ``bj`` the cement particle's index *among the cement particles*
+    (``where[cell]``), ``nrm`` the unit vector from the grain centre to the cell centre (minimum
+    image in x and y). Returns the number of bonds.
+    """
+    h = 0.5 * cw
+    n = 0
+    for g in range(x.shape[0]):
+        rg = r[g]
+        i0 = int(np.floor((x[g, 0] - rg) / cw))
+        i1 = int(np.floor((x[g, 0] + rg) / cw))
+        j0 = int(np.floor((x[g, 1] - rg) / cw))
+        j1 = int(np.floor((x[g, 1] + rg) / cw))
+        k0 = max(int(np.floor((x[g, 2] - rg - z0) / cw)), 0)
+        k1 = min(int(np.floor((x[g, 2] + rg - z0) / cw)), nz - 1)
+        for ii in range(i0, i1 + 1):
+            i = ii % nx
+            cx = (ii + 0.5) * cw
+            for jj in range(j0, j1 + 1):
+                j = jj % ny
+                cy = (jj + 0.5) * cw
+                for k in range(k0, k1 + 1):
+                    q = where[i + nx * (j + ny * k)]
+                    if q < 0:
+                        continue
+                    cz = z0 + (k + 0.5) * cw
+                    qx = min(max(x[g, 0], cx - h), cx + h) - x[g, 0]
+                    qy = min(max(x[g, 1], cy - h), cy + h) - x[g, 1]
+                    qz = min(max(x[g, 2], cz - h), cz + h) - x[g, 2]
+                    if qx * qx + qy * qy + qz * qz >= rg * rg:
+                        continue
+                    if not count_only:
+                        dx = cx - x[g, 0]
+                        dy = cy - x[g, 1]
+                        dz = cz - x[g, 2]
+                        norm = np.sqrt(dx * dx + dy * dy + dz * dz)
+                        bi[n] = g
+                        bj[n] = q
+                        nrm[n, 0] = dx / norm
+                        nrm[n, 1] = dy / norm
+                        nrm[n, 2] = dz / norm
+                    n += 1
+    return n
+
+
+@njit(cache=True, inline="always")
+def _apply(f, sz, i, j, fx, fy, fz, nz_, want_sz, ax):
+    """Force ``(fx, fy, fz)`` on ``i``, its opposite on ``j``; the stress share to ``sz``."""
+    f[i, 0] += fx
+    f[i, 1] += fy
+    f[i, 2] += fz
+    f[j, 0] -= fx
+    f[j, 1] -= fy
+    f[j, 2] -= fz
+    if want_sz:
+        c = -0.5 * (fx if ax == 0 else (fy if ax == 1 else fz)) * nz_
+        sz[i] += c
+        sz[j] += c
+
+
+@njit(cache=True)
+def contact_forces(u, v, bi, bj, nrm, kn, kt, gn, gt, f, sz, want_sz, ax):
+    """Add the forces of the contact bonds to ``f`` (elastic plus dashpot); with ``want_sz``
+    add half of each bond's force component ``ax`` on its second particle times the z
+    component of its normal (for ``ax = 2``: compression positive) to ``sz`` of both ends —
+    each particle's share of the slab stress :math:`\\sigma_{az}`."""
+    for b in range(bi.shape[0]):
+        i = bi[b]
+        j = bj[b]
+        nx_ = nrm[b, 0]
+        ny_ = nrm[b, 1]
+        nz_ = nrm[b, 2]
+        dx = u[j, 0] - u[i, 0]
+        dy = u[j, 1] - u[i, 1]
+        dz = u[j, 2] - u[i, 2]
+        wx = v[j, 0] - v[i, 0]
+        wy = v[j, 1] - v[i, 1]
+        wz = v[j, 2] - v[i, 2]
+        dn = (kn[b] - kt[b]) * (dx * nx_ + dy * ny_ + dz * nz_) \
+            + (gn[b] - gt[b]) * (wx * nx_ + wy * ny_ + wz * nz_)
+        fx = kt[b] * dx + gt[b] * wx + dn * nx_
+        fy = kt[b] * dy + gt[b] * wy + dn * ny_
+        fz = kt[b] * dz + gt[b] * wz + dn * nz_
+        _apply(f, sz, i, j, fx, fy, fz, nz_, want_sz, ax)
+
+
+@njit(cache=True)
+def lattice_forces(u, bi, bj, bd, lat_nrm, lat_kn, lat_kt, f, sz, want_sz, ax):
+    """Add the forces of the lattice bonds (eq. 6, no dashpots) to ``f`` (and ``sz`` as in
+    :func:`contact_forces`)."""
+    for b in range(bi.shape[0]):
+        i = bi[b]
+        j = bj[b]
+        d = bd[b]
+        nx_ = lat_nrm[d, 0]
+        ny_ = lat_nrm[d, 1]
+        nz_ = lat_nrm[d, 2]
+        k_t = lat_kt[d]
+        dx = u[j, 0] - u[i, 0]
+        dy = u[j, 1] - u[i, 1]
+        dz = u[j, 2] - u[i, 2]
+        dn = (lat_kn[d] - k_t) * (dx * nx_ + dy * ny_ + dz * nz_)
+        fx = k_t * dx + dn * nx_
+        fy = k_t * dy + dn * ny_
+        fz = k_t * dz + dn * nz_
+        _apply(f, sz, i, j, fx, fy, fz, nz_, want_sz, ax)
+
+
+@njit(cache=True)
+def _add_block_rows(rows, i, j, nx_, ny_, nz_, k_n, k_t):
+    n = (nx_, ny_, nz_)
+    for a in range(3):
+        s = 0.0
+        for c in range(3):
+            s += abs((k_n - k_t) * n[a] * n[c] + (k_t if a == c else 0.0))
+        rows[i, a] += 2.0 * s
+        rows[j, a] += 2.0 * s
+
+
+@njit(cache=True)
+def gershgorin_rows(n_particles, bi, bj, nrm, kn, kt, li, lj, ld, lat_nrm, lat_kn, lat_kt):
+    """Row sums of :math:`|K|` per particle and axis (diagonal block plus off-diagonal blocks),
+    the Gershgorin bound of the stiffness matrix."""
+    rows = np.zeros((n_particles, 3))
+    for b in range(bi.shape[0]):
+        _add_block_rows(rows, bi[b], bj[b], nrm[b, 0], nrm[b, 1], nrm[b, 2], kn[b], kt[b])
+    for b in range(li.shape[0]):
+        d = ld[b]
+        _add_block_rows(rows, li[b], lj[b], lat_nrm[d, 0], lat_nrm[d, 1], lat_nrm[d, 2],
+                        lat_kn[d], lat_kt[d])
+    return rows
+
+
+@njit(cache=True)
+def leapfrog_run(u, v, inv_m, flag, slab, n_slabs, bi, bj, nrm, kn, kt, gn, gt, li, lj, ld,
+                 lat_nrm, lat_kn, lat_kt, dt, t0, n_steps, amplitude, duration, every, ax, record):
+    """Advance the linear system ``n_steps`` by the explicit central-difference (leapfrog) scheme.
+
+    ``u`` are displacements at time ``t0``, ``v`` velocities at ``t0 - dt/2``; the dashpots use
+    the lagged velocity. ``flag``: 0 free, 1 fixed, 2 driven (displacement ``amplitude`` along
+    axis ``ax`` for ``0 <= t < duration``, else 0). Every ``every`` steps,
+    ``record[step // every, s]`` gets the sum over the particles of slab ``s`` of their contact
+    forces along ``ax`` (``sz`` of :func:`contact_forces`) at time ``t0 + step dt``.
+    """
+    n = u.shape[0]
+    f = np.empty((n, 3))
+    sz = np.empty(n)
+    for step in range(n_steps):
+        f[:] = 0.0
+        want = step % every == 0
+        if want:
+            sz[:] = 0.0
+        contact_forces(u, v, bi, bj, nrm, kn, kt, gn, gt, f, sz, want, ax)
+        lattice_forces(u, li, lj, ld, lat_nrm, lat_kn, lat_kt, f, sz, want, ax)
+        if want:
+            row = step // every
+            for s in range(n_slabs):
+                record[row, s] = 0.0
+            for p in range(n):
+                record[row, slab[p]] += sz[p]
+        t_next = t0 + (step + 1) * dt
+        drive = amplitude if t_next < duration else 0.0
+        for p in range(n):
+            fl = flag[p]
+            if fl == 0:
+                for a in range(3):
+                    v[p, a] += dt * f[p, a] * inv_m[p]
+                    u[p, a] += dt * v[p, a]
+            elif fl == 2:
+                v[p, 0] = 0.0
+                v[p, 1] = 0.0
+                v[p, 2] = 0.0
+                u[p, 0] = 0.0
+                u[p, 1] = 0.0
+                u[p, 2] = 0.0
+                u[p, ax] = drive

@@ -1,0 +1,201 @@
+"""The linearised acoustic stage: lattice constants, operator assembly, static moduli and the
+pulse test, against closed forms and a second numerical method (García & Medina, III F–G)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from md.acoustic import (acoustic_system, cement_block, damping_ratio, pulse_test,
+                         static_modulus)
+from md.cement import (HARD_CEMENT, LATTICE_OFFSETS, SOFT_CEMENT, CementMaterial,
+                       cement_lattice, grow_cement, lattice_constants)
+from md.contact import QUARTZ
+from md.space import Box
+from md.state import Pack
+
+CW = 1e-5
+
+
+def cubic_pack(n=(3, 3, 24), R=1e-4, overlap=1e-7):
+    """Grains on a simple cubic lattice of spacing d = 2R - overlap (periodic in x, y)."""
+    nx, ny, nz = n
+    d = 2 * R - overlap
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    x = np.stack([(i.ravel() + 0.5) * d, (j.ravel() + 0.5) * d, R + k.ravel() * d], -1)
+    z = np.zeros_like(x)
+    return Pack(x, z, z.copy(), np.full(len(x), R), Box(nx * d, ny * d, 0.0, nz * d + R),
+                QUARTZ, np.zeros((0, 2), np.int32), np.zeros((0, 3))), d
+
+
+# --- lattice constants ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("cement", [HARD_CEMENT, SOFT_CEMENT])
+@pytest.mark.parametrize("wave,attr", [("p", "vp"), ("s", "vs")])
+def test_cement_block_static_moduli_give_the_cement_velocities(cement, wave, attr):
+    """A sparse solve of a pure cement block gives the cement's P and S velocities (eq. 8)."""
+    st = static_modulus(cement_block((4, 4, 24), CW, cement), wave)
+    assert st.velocity == pytest.approx(getattr(cement, attr), rel=1e-8)
+    assert st.density == pytest.approx(cement.density, rel=1e-12)
+
+
+def test_paper_rule_is_off_by_the_predicted_amount():
+    """Eq. 9 (C from eq. 8) on this lattice: rho Vp^2 = 3Cn/cw + 3C/cw^3 = 3/4 rho (Vp^2 + Vs^2)
+    and rho Vs^2 = rho (7 Vs^2 - Vp^2) / 4."""
+    c = HARD_CEMENT
+    block = cement_block((4, 4, 24), CW, c, rule="paper")
+    vp = static_modulus(block, "p").velocity
+    vs = static_modulus(block, "s").velocity
+    assert vp == pytest.approx(math.sqrt(0.75 * (c.vp**2 + c.vs**2)), rel=1e-8)
+    assert vs == pytest.approx(math.sqrt((7 * c.vs**2 - c.vp**2) / 4), rel=1e-8)
+    assert 1.005 < vp / c.vp < 1.02 and 1.02 < vs / c.vs < 1.04
+
+
+@pytest.mark.parametrize("wave,attr", [("p", "vp"), ("s", "vs")])
+def test_pulse_on_a_cement_block_gives_the_cement_velocity(wave, attr):
+    """The homogeneous check of the pulse machinery: within 3 % (the peak of the square pulse
+    runs 2–2.5 % slow on the lattice, see benchmarks/md_pulse_error_vs_time.py; the
+    eq. 11 error of a single pair of detectors misses that bias)."""
+    block = cement_block((3, 3, 160), CW, HARD_CEMENT, slab_thickness=8 * CW)
+    ds = pulse_test(block, wave)
+    target = getattr(HARD_CEMENT, attr)
+    assert abs(float(ds.velocity) / target - 1) < 0.03
+    assert abs(float(ds.velocity_fit) / target - 1) < 0.03
+    assert float(ds.velocity_static) == pytest.approx(target, rel=1e-8)
+    assert np.all(np.diff(ds.arrival_time.values[1:-3]) > 0)
+
+
+def test_lattice_bond_count_of_a_full_block():
+    """9 bonds per node; the 5 offsets with a z step lose one layer each (periodic x, y)."""
+    nx, ny, nz = 4, 5, 6
+    block = cement_block((nx, ny, nz), CW)
+    assert block.lattice_i.size == 9 * nx * ny * nz - 5 * nx * ny
+
+
+# --- the operator ----------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def cemented_cubic():
+    pack, d = cubic_pack((3, 3, 10))
+    lat = cement_lattice(pack, 3.0)
+    cem = grow_cement(lat, 0.1, "contact")
+    return pack, lat, cem, acoustic_system(pack, lat, cem, HARD_CEMENT, slab_thickness=2 * d)
+
+
+def test_kernel_equals_the_assembled_sparse_operator(cemented_cubic, rng):
+    system = cemented_cubic[3]
+    n = system.n_particles
+    u, v = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    K, D, M = system.stiffness_matrix(), system.damping_matrix(), system.mass_matrix()
+    expected = -(K @ u.ravel() + D @ v.ravel())
+    got = system.forces(u, v).ravel()
+    assert np.max(np.abs(got - expected)) <= 1e-12 * np.max(np.abs(expected))
+    assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+    assert M.diagonal() == pytest.approx(np.repeat(system.masses, 3))
+    # Rigid translations are free of force.
+    assert np.max(np.abs(K @ np.tile([1.0, -2.0, 0.5], n))) <= 1e-9 * abs(K).max()
+
+
+def test_lattice_bonds_join_cement_particles_one_offset_apart(cemented_cubic):
+    pack, lat, cem, system = cemented_cubic
+    i, j = system.lattice_i, system.lattice_j
+    assert i.size > 0 and i.min() >= system.n_grains and j.min() >= system.n_grains
+    d = system.positions[j] - system.positions[i]
+    d[:, 0] -= system.box.lx * np.round(d[:, 0] / system.box.lx)
+    d[:, 1] -= system.box.ly * np.round(d[:, 1] / system.box.ly)
+    expected = LATTICE_OFFSETS[system.lattice_dir] * lat.cell_width
+    assert np.allclose(d, expected, atol=1e-9 * lat.cell_width)
+
+
+def test_grain_cement_bonds_against_brute_force(cemented_cubic):
+    pack, lat, cem, system = cemented_cubic
+    ng = system.n_grains
+    centres = lat.centres()[cem]
+    L = np.array([pack.box.lx, pack.box.ly])
+    expected = set()
+    for g, (xg, rg) in enumerate(zip(pack.positions, pack.radii)):
+        dd = centres - xg
+        dd[:, :2] -= L * np.round(dd[:, :2] / L)
+        q = np.clip(np.zeros(3), dd - lat.cell_width / 2, dd + lat.cell_width / 2)
+        expected |= {(g, ng + c) for c in np.flatnonzero(np.sum(q * q, axis=1) < rg * rg)}
+    gc = system.bond_j >= ng
+    got = set(zip(system.bond_i[gc].tolist(), system.bond_j[gc].tolist()))
+    assert got == expected and len(got) > 0
+    assert np.allclose(np.linalg.norm(system.bond_normal, axis=1), 1.0)
+
+
+def test_cubic_pack_static_moduli_match_the_contact_chain():
+    """Simple cubic pack: M = k_n / d and G = k_t / d with the linearised Hertz–Mindlin
+    stiffnesses k_n = 2 E_f a, k_t = 8 G_f a, a = sqrt(R_f xi)."""
+    R, xi = 1e-4, 1e-7
+    pack, d = cubic_pack((3, 3, 12), R, xi)
+    system = acoustic_system(pack)
+    a = math.sqrt(R / 2 * xi)
+    assert static_modulus(system, "p").modulus == pytest.approx(2 * QUARTZ.E_f * a / d, rel=1e-8)
+    assert static_modulus(system, "s").modulus == pytest.approx(8 * QUARTZ.G_f * a / d, rel=1e-8)
+
+
+def test_cubic_pack_pulse_velocity_near_the_long_wave_limit():
+    pack, d = cubic_pack((3, 3, 48))
+    system = acoustic_system(pack, slab_thickness=4 * d)
+    ds = pulse_test(system)
+    ratio = float(ds.velocity) / float(ds.velocity_static)
+    assert 0.9 < ratio <= 1.0 + float(ds.velocity_error) / float(ds.velocity_static)
+
+
+def test_cement_only_stiffens(cemented_cubic):
+    """Rayleigh monotonicity: nested cement (more springs) never lowers the static reaction."""
+    pack, lat, _, _ = cemented_cubic
+    d = 2 * pack.radii[0]
+    stresses = [static_modulus(acoustic_system(pack, lat, grow_cement(lat, s, "contact"),
+                                               slab_thickness=d)).stress
+                for s in (0.0, 0.02, 0.05, 0.1, 0.2)]
+    assert np.all(np.diff(stresses) >= -1e-9 * stresses[-1]) and stresses[-1] > stresses[0]
+
+
+def test_time_step_is_stable_and_converges(cemented_cubic):
+    system = cemented_cubic[3]
+    a = pulse_test(system, time_step_factor=1.0)
+    b = pulse_test(system, time_step_factor=0.25)
+    assert np.all(np.isfinite(a.signal.values))
+    assert float(a.velocity) == pytest.approx(float(b.velocity), rel=0.1)
+
+
+# --- damping and inputs --------------------------------------------------------------------
+
+@pytest.mark.parametrize("e", [0.1, 0.5, 0.9, 1.0])
+def test_damping_ratio_reproduces_the_restitution(e):
+    """A linear oscillator with this damping ratio rebounds with velocity ratio e: integrate it
+    (scipy, tight tolerances) through half a damped period."""
+    from scipy.integrate import solve_ivp
+
+    zeta = damping_ratio(e)
+    wd = math.sqrt(1 - zeta**2)
+    sol = solve_ivp(lambda t, y: [y[1], -y[0] - 2 * zeta * y[1]], (0, math.pi / wd), [0, 1],
+                    rtol=1e-12, atol=1e-14)
+    assert -sol.y[1, -1] == pytest.approx(e, rel=1e-8)
+
+
+@pytest.mark.parametrize("vp,vs", [(3000.0, 1500.0), (1000.0, 900.0), (-1.0, 1.0),
+                                   (float("nan"), 1.0)])
+def test_cement_outside_the_lattice_range(vp, vs):
+    with pytest.raises(ValueError, match="cement"):
+        CementMaterial(vp, vs, 2650.0)
+
+
+def test_bad_knobs(cemented_cubic):
+    system = cemented_cubic[3]
+    for kwargs, match in [(dict(time_step_factor=1.5), "time_step_factor"),
+                          (dict(record_every=0), "record_every"),
+                          (dict(detectors=(0, 2)), "detectors"),
+                          (dict(pulse_duration=-1.0), "pulse_duration")]:
+        with pytest.raises(ValueError, match=match):
+            pulse_test(system, **kwargs)
+    with pytest.raises(ValueError, match="wave"):
+        static_modulus(system, "q")
+    with pytest.raises(ValueError, match="rule"):
+        lattice_constants(HARD_CEMENT, CW, "exact")
+    with pytest.raises(ValueError, match="4"):
+        pulse_test(cement_block((3, 3, 8), CW))
+    with pytest.raises(ValueError, match="both"):
+        acoustic_system(cemented_cubic[0], cemented_cubic[1])
