@@ -72,9 +72,6 @@ class Pack:
 
 def save_pack(pack: Pack, path) -> Path:
     """Write a pack to netCDF atomically (temporary file in the same folder, then rename)."""
-    import os
-    import tempfile
-
     import xarray as xr
 
     ds = xr.Dataset(
@@ -96,6 +93,14 @@ def save_pack(pack: Pack, path) -> Path:
             "title": f"rockcem md grain pack after stage {pack.stage!r}",
         },
     )
+    return _atomic_netcdf(ds, path)
+
+
+def _atomic_netcdf(ds, path) -> Path:
+    """Write a Dataset to netCDF through a temporary file in the same folder, then rename."""
+    import os
+    import tempfile
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

@@ -45,10 +45,32 @@ def _summary(ds) -> str:
     return "\n".join(lines)
 
 
-def _run(args) -> int:
-    from .scene import load_scene, run_scene, write_dataset
+def _run_md(raw, args) -> int:
+    """An MD scene (a TOML with an [md] table): packs, cement, pulse tests (numba's md)."""
+    from md.experiment import md_scene_from_dict, run_md_scene
+    from md.state import _atomic_netcdf
 
-    scene = load_scene(args.scene)
+    scene = md_scene_from_dict(raw)
+    out = args.output or scene["output"]
+    ds = run_md_scene(scene, progress=not args.quiet)
+    path = _atomic_netcdf(ds, out)
+    if not args.quiet:
+        v = next(n for n in ds.data_vars if n in ("vp", "vs"))
+        print(f"MD scene {scene['name']}: {v} (km/s) over " + ", ".join(
+            f"{d} = {ds[d].values.tolist()}" for d in ("sample", "cement", "scheme",
+                                                        "saturation")))
+        print(ds[v].to_dataframe()[v].unstack("saturation").round(3).to_string())
+        print(f"wrote {path}")
+    return 0
+
+
+def _run(args) -> int:
+    from .scene import read_scene_toml, run_scene, scene_from_dict, write_dataset
+
+    raw, text = read_scene_toml(args.scene)
+    if "md" in raw:
+        return _run_md(raw, args)
+    scene = scene_from_dict(raw, text=text)
     out = args.output or scene.output
     ds = run_scene(scene, scheduler=args.scheduler, progress=not args.quiet)
     path = write_dataset(ds, out)
@@ -128,6 +150,11 @@ def _schema(args) -> int:
             shown = "required" if default is _REQUIRED else repr(default)
             print(f"  {key:<22} {kind:<8} {unit:<10} default {shown:<14} {doc}")
     print("[sweep]\n  \"section.key\" = [values, ...]  one dimension per swept parameter")
+    print("\nMD scenes (a table [md] instead of the sections above; run by the md engine):")
+    from md.experiment import schema_lines
+
+    for line in schema_lines():
+        print("  " + line)
     return 0
 
 

@@ -312,6 +312,15 @@ def _to_toml(raw: dict) -> str:
 
 def load_scene(source) -> Scene:
     """Load and validate a scene from a TOML file path or the name of a shipped scene."""
+    raw, text = read_scene_toml(source)
+    if "md" in raw:
+        raise ValueError(f"{source} is an MD scene (a table [md]): run it with `rockcem run` or "
+                         "md.experiment.run_md_scene")
+    return scene_from_dict(raw, text=text)
+
+
+def read_scene_toml(source) -> tuple[dict, str]:
+    """The parsed TOML and text of a scene file path or shipped scene name (not validated)."""
     path = Path(source)
     if not path.suffix and not path.exists():
         shipped = shipped_scenes()
@@ -326,7 +335,7 @@ def load_scene(source) -> Scene:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"scene file {path.name} is not valid TOML: {exc}") from None
-    return scene_from_dict(raw, text=text)
+    return raw, text
 
 
 def shipped_scenes() -> dict[str, Path]:
