@@ -620,11 +620,13 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
     bar = tqdm(total=t_run, disable=not progress, desc="pulse test", unit="s",
                bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s simulated")
     while True:
-        rec = np.empty((chunk // record_every, n_slabs))
-        leapfrog_run(u, v, *args, dt, t, chunk, amp, tau, record_every, ax, rec)
+        left = max(1, math.ceil((t_run - t) / dt / record_every)) * record_every
+        steps = min(chunk, left)                 # the last chunk stops at t_run
+        rec = np.empty((steps // record_every, n_slabs))
+        leapfrog_run(u, v, *args, dt, t, steps, amp, tau, record_every, ax, rec)
         records.append(rec / np.maximum(counts, 1))
-        t += chunk * dt
-        bar.update(min(chunk * dt, max(t_run - bar.n, 0.0)))
+        t += steps * dt
+        bar.update(min(steps * dt, max(t_run - bar.n, 0.0)))
         if t >= t_run:
             sig = np.concatenate(records)
             if _first_peak(sig[:, s2], 0.1 * sig[:, s1].max()) >= 0 or t >= t_cap:
