@@ -321,3 +321,26 @@ def self_consistent_scipy(K, G, fractions, aspect, *, xtol=1e-13, ftol=1e-13):
         success[i] = bool(sol.success) or bool(np.max(np.abs(sol.fun)) < ftol)
         nfev[i] = int(sol.nfev)
     return K_out, G_out, success, nfev
+
+def md_source_attrs():
+    """SHA-256 over the ``md`` package's ``.py`` sources and its uncommitted files (the
+    ``_common`` provenance covers ``rockcem`` only)."""
+    import hashlib
+    import subprocess
+
+    import md
+
+    pkg = Path(md.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for file in sorted(pkg.rglob("*.py")):
+        digest.update(file.relative_to(pkg).as_posix().encode())
+        digest.update(file.read_bytes())
+    try:
+        out = subprocess.run(["git", "-C", str(pkg), "status", "--porcelain", "--", "."],
+                             capture_output=True, text=True, timeout=20, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        out = ""
+    dirty = [line[3:] for line in out.splitlines() if line]
+    return {"md_path": str(pkg), "md_source_sha256": digest.hexdigest(),
+            "git_uncommitted_md_files": " ".join(dirty) or "none"}
+

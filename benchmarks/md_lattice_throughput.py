@@ -52,7 +52,6 @@ from __future__ import annotations
 import _common  # noqa: I001  (first: pins threads before numpy is imported)
 
 import argparse  # noqa: E402
-import hashlib  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
 import resource  # noqa: E402
@@ -75,26 +74,6 @@ BYTES_PER_BOND = 4 + 4 + 1        # bi, bj int32, bd int8
 BYTES_PER_NODE = 24 + 48          # u read; f read + write
 
 
-def md_source_attrs():
-    """SHA-256 over the ``md`` package's ``.py`` sources and its uncommitted files (the
-    ``_common`` provenance covers ``rockcem`` only)."""
-    import subprocess
-
-    import md
-
-    pkg = Path(md.__file__).resolve().parent
-    digest = hashlib.sha256()
-    for file in sorted(pkg.rglob("*.py")):
-        digest.update(file.relative_to(pkg).as_posix().encode())
-        digest.update(file.read_bytes())
-    try:
-        out = subprocess.run(["git", "-C", str(pkg), "status", "--porcelain", "--", "."],
-                             capture_output=True, text=True, timeout=20, check=True).stdout
-    except (OSError, subprocess.SubprocessError):
-        out = ""
-    dirty = [line[3:] for line in out.splitlines() if line]
-    return {"md_path": str(pkg), "md_source_sha256": digest.hexdigest(),
-            "git_uncommitted_md_files": " ".join(dirty) or "none"}
 
 
 def block_shape(n_nodes):
@@ -242,7 +221,7 @@ def main(argv=None):
     import md
 
     _common.announce_source()
-    md_src = md_source_attrs()
+    md_src = _common.md_source_attrs()
     print(f"md from {md_src['md_path']}, uncommitted: {md_src['git_uncommitted_md_files']}, "
           f"sources sha256 {md_src['md_source_sha256'][:12]}", flush=True)
     t_start = time.perf_counter()
