@@ -38,7 +38,8 @@ import numpy as np  # noqa: E402
 RESULTS = Path(__file__).resolve().parent / "results"
 
 __all__ = ["ROOT", "RESULTS", "result_path", "best_of", "environment_attrs", "sandstone_profile",
-           "write_csv", "write_netcdf", "save_figure", "relative_difference"]
+           "write_csv", "write_netcdf", "save_figure", "relative_difference", "markdown",
+           "md_source_attrs"]
 
 
 # ----------------------------------------------------------------------------- timing
@@ -344,3 +345,15 @@ def md_source_attrs():
     return {"md_path": str(pkg), "md_source_sha256": digest.hexdigest(),
             "git_uncommitted_md_files": " ".join(dirty) or "none"}
 
+def markdown(frame, columns):
+    """A markdown table of ``columns`` (name -> (header, format)) of ``frame``."""
+    head = "| " + " | ".join(h for h, _ in columns.values()) + " |"
+    rule = "|" + "|".join("---:" for _ in columns) + "|"
+    lines = [head, rule]
+    for _, r in frame.iterrows():
+        cells = []
+        for col, (_, fmt) in columns.items():
+            v = r[col]
+            cells.append("" if (isinstance(v, float) and np.isnan(v)) else format(v, fmt))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)

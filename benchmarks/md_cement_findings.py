@@ -50,7 +50,6 @@ def main(argv=None):
     import xarray as xr
 
     from md.experiment import md_scene_from_dict, run_md_scene
-    from md.state import _atomic_netcdf
     from rockcem.scene import read_scene_toml
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -60,7 +59,7 @@ def main(argv=None):
     if args.rerun or not path.exists():
         scene = md_scene_from_dict(read_scene_toml("garcia_medina_cement")[0])
         ds = run_md_scene(scene, workdir=RESULTS / "garcia_medina_cement_work", progress=True)
-        _atomic_netcdf(ds, path)
+        write_netcdf(ds, path)
     ds = xr.load_dataset(path)
     colours = {"contact": "C3", "coating": "C0", "pore_body": "C2"}
     fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharex=True, constrained_layout=True)

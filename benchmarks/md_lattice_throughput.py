@@ -181,19 +181,6 @@ def pack_ratios(pack_path, repeat_steps):
     return out
 
 
-def markdown(frame, columns):
-    """A markdown table of ``columns`` (name -> (header, format)) of ``frame``."""
-    head = "| " + " | ".join(h for h, _ in columns.values()) + " |"
-    rule = "|" + "|".join("---:" for _ in columns) + "|"
-    lines = [head, rule]
-    for _, r in frame.iterrows():
-        cells = []
-        for col, (_, fmt) in columns.items():
-            v = r[col]
-            cells.append("" if (isinstance(v, float) and np.isnan(v)) else format(v, fmt))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -410,7 +397,7 @@ def main(argv=None):
     _common.write_netcdf(ds, _common.result_path(NAME, "nc", args.tag))
 
     print("\nlattice_forces, one core\n")
-    print(markdown(kern, {"shape": ("block", "s"), "n_nodes": ("nodes", "d"),
+    print(_common.markdown(kern, {"shape": ("block", "s"), "n_nodes": ("nodes", "d"),
                           "n_bonds": ("bonds", "d"), "seconds": ("s per call", ".4g"),
                           "updates_per_s": ("updates/s (best)", ".3g"),
                           "updates_per_s_median": ("updates/s (median)", ".3g"),
@@ -426,7 +413,7 @@ def main(argv=None):
     print(f"\nfull sample {SAMPLE_DIAMETERS} diameters, Omega {SAMPLE_OMEGA:g} (c_w = "
           f"{cw * 1e6:.1f} um): {pore_cells:.3g} pore cells, dt {dt:.3g} s, {steps} steps for "
           f"{sim_time * 1e6:.2f} us; bonds per node: {ratio_note}\n")
-    print(markdown(proj, {"saturation": ("S_c", "g"), "n_nodes": ("cement nodes", ".3g"),
+    print(_common.markdown(proj, {"saturation": ("S_c", "g"), "n_nodes": ("cement nodes", ".3g"),
                           "bonds_per_node": ("bonds/node", ".2f"),
                           "n_bonds": ("lattice bonds", ".3g"),
                           "step_seconds_lattice": ("s/step (lattice)", ".3g"),

@@ -154,19 +154,6 @@ def fit_exponent(x, y):
     return float(np.polyfit(np.log(x[ok]), np.log(y[ok]), 1)[0])
 
 
-def markdown(frame, columns):
-    """A markdown table of ``columns`` (name -> (header, format)) of ``frame``."""
-    head = "| " + " | ".join(h for h, _ in columns.values()) + " |"
-    rule = "|" + "|".join("---:" for _ in columns) + "|"
-    lines = [head, rule]
-    for _, r in frame.iterrows():
-        cells = []
-        for col, (_, fmt) in columns.items():
-            v = r[col]
-            cells.append("" if (isinstance(v, float) and np.isnan(v)) else format(v, fmt))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -317,7 +304,7 @@ def main(argv=None):
                 "rel_error_static": ("static error", ".3f"),
                 "seconds_pulse": ("pulse (s)", ".3f"), "seconds_total": ("total (s)", ".3f")}
     print(f"\n(a) resolution sweep, S_c = {args.saturation:g}, time_step_factor 0.5\n")
-    print(markdown(frame[frame.sweep == "resolution"], cols_res))
+    print(_common.markdown(frame[frame.sweep == "resolution"], cols_res))
     print(f"\ncost exponent (Omega >= {args.fit_from:g}): "
           f"pulse {exponents['cost_exponent_pulse']:.2f}"
           f", total {exponents['cost_exponent_total']:.2f}, static solve "
@@ -329,7 +316,7 @@ def main(argv=None):
                "n_steps": ("steps", "d"), "velocity": ("Vp (m/s)", ".1f"),
                "rel_error": ("error vs smallest", ".2e"), "seconds_pulse": ("pulse (s)", ".3f")}
     print(f"\n(b) time-step sweep at Omega = {args.factor_omega:g}\n")
-    print(markdown(frame[frame.sweep == "time_step"], cols_dt))
+    print(_common.markdown(frame[frame.sweep == "time_step"], cols_dt))
     cols_blk = {"slab_cells": ("slab (cells)", "d"), "n_particles": ("particles", "d"),
                 "n_steps": ("steps", "d"), "velocity": ("Vp (m/s)", ".1f"),
                 "rel_error": ("error vs 3000", ".4f"), "velocity_fit": ("Vp fit (m/s)", ".1f"),
@@ -337,7 +324,7 @@ def main(argv=None):
                 "rel_error_bar_eq11": ("eq. 11 ± / Vp", ".4f"),
                 "seconds_pulse": ("pulse (s)", ".3f")}
     print("\n(c) cement block (3 x 3 x 20 slabs), P wave\n")
-    print(markdown(frame[frame.sweep == "cement_block"], cols_blk))
+    print(_common.markdown(frame[frame.sweep == "cement_block"], cols_blk))
     bad = frame[frame.status != "ok"]
     for _, r in bad.iterrows():
         print(f"FAILED {r.sweep} Omega={r.omega:g} factor={r.time_step_factor:g}: {r.status}")

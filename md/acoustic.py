@@ -33,7 +33,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .cement import HARD_CEMENT, LATTICE_OFFSETS, CementLattice, CementMaterial, lattice_constants
+from .cement import (HARD_CEMENT, LATTICE_OFFSETS, CementLattice, CementMaterial,
+                     lattice_constants)
 from .space import Box
 from .state import Pack
 
@@ -117,11 +118,6 @@ class AcousticSystem:
         """Grains plus cement particles."""
         return int(self.masses.shape[0])
 
-    @property
-    def n_bonds(self) -> int:
-        """Contact bonds plus lattice bonds."""
-        return int(self.bond_i.shape[0] + self.lattice_i.shape[0])
-
     def slabs(self):
         """Slab index of every particle and the number of slabs (the top slab takes the rest)."""
         z0, z1 = self.extent
@@ -149,17 +145,30 @@ class AcousticSystem:
                        self.lattice_kn, self.lattice_kt, f, sz, False, 2)
         return f
 
+    def _bonds(self, kn, kt, lattice_kn, lattice_kt):
+        """All bonds as ``(i, j, normal, k_n, k_t)``: the contact bonds with constants ``kn, kt``,
+        then the lattice bonds with per-direction constants ``lattice_kn, lattice_kt``."""
+        ld = self.lattice_dir.astype(np.int64)
+        return (np.concatenate([self.bond_i, self.lattice_i]).astype(np.int64),
+                np.concatenate([self.bond_j, self.lattice_j]).astype(np.int64),
+                np.concatenate([self.bond_normal, _LATTICE_NORMALS[ld]]),
+                np.concatenate([kn, lattice_kn[ld]]), np.concatenate([kt, lattice_kt[ld]]))
+
+    def stiffness_diagonal(self) -> np.ndarray:
+        """Diagonal of :math:`K`, shape (n, 3), N/m (zero for a particle without bonds)."""
+        i, j, n, k_n, k_t = self._bonds(self.bond_kn, self.bond_kt, self.lattice_kn,
+                                        self.lattice_kt)
+        block_diag = (k_n - k_t)[:, None] * n**2 + k_t[:, None]
+        return np.stack([np.bincount(i, block_diag[:, a], self.n_particles)
+                         + np.bincount(j, block_diag[:, a], self.n_particles)
+                         for a in range(3)], axis=-1)
+
     def _assemble(self, kn, kt, lattice_kn, lattice_kt):
         """Sparse matrix of bonds with contact constants ``kn, kt`` and per-direction lattice
         constants ``lattice_kn, lattice_kt``."""
         import scipy.sparse as sp
 
-        ld = self.lattice_dir.astype(np.int64)
-        i = np.concatenate([self.bond_i, self.lattice_i]).astype(np.int64)
-        j = np.concatenate([self.bond_j, self.lattice_j]).astype(np.int64)
-        n = np.concatenate([self.bond_normal, _LATTICE_NORMALS[ld]])
-        k_n = np.concatenate([kn, lattice_kn[ld]])
-        k_t = np.concatenate([kt, lattice_kt[ld]])
+        i, j, n, k_n, k_t = self._bonds(kn, kt, lattice_kn, lattice_kt)
         blocks = (k_n - k_t)[:, None, None] * n[:, :, None] * n[:, None, :] \
             + k_t[:, None, None] * np.eye(3)
         a = np.arange(3)
@@ -192,21 +201,44 @@ class AcousticSystem:
         :math:`M^{-1}K`, rad/s."""
         from ._kernels_acoustic import gershgorin_rows
 
-        rows = gershgorin_rows(self.n_particles, *self._kernel_args()[:5],
-                               *self._kernel_args()[7:])
+        rows = gershgorin_rows(self.n_particles, self.bond_i, self.bond_j, self.bond_normal,
+                               self.bond_kn, self.bond_kt, self.lattice_i, self.lattice_j,
+                               self.lattice_dir, _LATTICE_NORMALS, self.lattice_kn,
+                               self.lattice_kt)
         return float(np.sqrt(np.max(rows / self.masses[:, None])))
 
 
-def _contact_bonds_grains(pack: Pack, zeta):
-    """Grain–grain contacts of the pack linearised at their equilibrium overlap."""
+def _lattice_springs(cement, cell_width, rule):
+    """Lattice constants and the per-direction normal and tangential stiffness of eq. 6:
+    ``(Cn, C, m_c, Cn + C/|x|^2, C/|x|^2)``."""
+    Cn, C, m_c = lattice_constants(cement, cell_width, rule)
+    kt = C / (_LATTICE_LENGTH2 * cell_width**2)
+    return Cn, C, m_c, Cn + kt, kt
+
+
+def _lattice_bonds(cells, where, shape):
+    """Cement–cement bonds ``(i, j, direction)`` among the particles of the cemented ``cells``
+    (``where[cell]`` is a cell's particle index among them, −1 for an empty cell)."""
+    from ._kernels_acoustic import lattice_bonds
+
+    nx, ny, nz = shape
+    none = np.zeros(0, np.int32)
+    n = lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, True, none, none,
+                      np.zeros(0, np.int8))
+    li, lj, ld = np.empty(n, np.int32), np.empty(n, np.int32), np.empty(n, np.int8)
+    lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, False, li, lj, ld)
+    return li, lj, ld
+
+
+def _contact_bonds_grains(pack: Pack, m, zeta):
+    """Grain–grain contacts of the pack (grain masses ``m``) linearised at their equilibrium
+    overlap."""
     from .neighbors import build_neighbors
+    from .space import minimum_image
 
     x, r, mat = pack.positions, pack.radii, pack.material
-    nl = build_neighbors(x, r, pack.box, 0.0)
-    p = nl.pairs.astype(np.int64)
-    d = x[p[:, 1]] - x[p[:, 0]]
-    d[:, 0] -= pack.box.lx * np.round(d[:, 0] / pack.box.lx)
-    d[:, 1] -= pack.box.ly * np.round(d[:, 1] / pack.box.ly)
+    p = build_neighbors(x, r, pack.box, 0.0).pairs.astype(np.int64)
+    d = minimum_image(x[p[:, 1]] - x[p[:, 0]], pack.box)
     dist = np.linalg.norm(d, axis=1)
     xi = r[p[:, 0]] + r[p[:, 1]] - dist
     keep = xi > 0
@@ -216,7 +248,6 @@ def _contact_bonds_grains(pack: Pack, zeta):
     a = np.sqrt(R_f * xi)
     kn = 2.0 * mat.E_f * a
     kt = 8.0 * mat.G_f * a
-    m = mat.density * 4.0 / 3.0 * np.pi * r**3
     m_red = m[p[:, 0]] * m[p[:, 1]] / (m[p[:, 0]] + m[p[:, 1]])
     return (p[:, 0], p[:, 1], d / dist[:, None], kn, kt, 2 * zeta * np.sqrt(kn * m_red),
             2 * zeta * np.sqrt(kt * m_red))
@@ -248,7 +279,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     -------
     AcousticSystem
     """
-    from ._kernels_acoustic import grain_cement_bonds, lattice_bonds
+    from ._kernels_acoustic import grain_cement_bonds
 
     if not isinstance(pack, Pack):
         raise ValueError(f"pack must be an md.Pack; got {type(pack).__name__}")
@@ -257,12 +288,12 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     mat = pack.material
     e = mat.restitution if restitution is None else restitution
     zeta = damping_ratio(e)
-    gi, gj, gnrm, gkn, gkt, ggn, ggt = _contact_bonds_grains(pack, zeta)
     r = pack.radii
+    m_grain = mat.density * 4.0 / 3.0 * np.pi * r**3
+    gi, gj, gnrm, gkn, gkt, ggn, ggt = _contact_bonds_grains(pack, m_grain, zeta)
     x = pack.positions.copy()
     x[:, 0] %= pack.box.lx
     x[:, 1] %= pack.box.ly
-    m_grain = mat.density * 4.0 / 3.0 * np.pi * r**3
     n_g = pack.n_grains
     thickness = 4.0 * float(r.max()) if slab_thickness is None else float(slab_thickness)
     if not thickness > 0:
@@ -285,17 +316,13 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     if min(nx, ny) < 3:
         raise ValueError("the cement lattice needs at least 3 cells across x and y")
     cw = lattice.cell_width
-    Cn, C, m_c = lattice_constants(cement, cw, rule)
+    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, rule)
     cells = lattice.index[cemented].astype(np.int64)
     n_c = cells.size
     where = np.full(nx * ny * nz, -1, dtype=np.int32)
     where[cells] = np.arange(n_c, dtype=np.int32)
+    li, lj, ld = _lattice_bonds(cells, where, lattice.shape)
     dummy_i = np.zeros(0, np.int32)
-    n_lat = lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, True, dummy_i, dummy_i,
-                          np.zeros(0, np.int8))
-    li, lj = np.empty(n_lat, np.int32), np.empty(n_lat, np.int32)
-    ld = np.empty(n_lat, np.int8)
-    lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, False, li, lj, ld)
     args = (x, r, where, pack.box.lx, pack.box.ly, lattice.z0, cw, nx, ny, nz)
     n_gc = grain_cement_bonds(*args, True, dummy_i, dummy_i, np.zeros((0, 3)))
     ci, cj, cnrm = np.empty(n_gc, np.int32), np.empty(n_gc, np.int32), np.empty((n_gc, 3))
@@ -311,7 +338,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     centres = lattice.centres()[cemented]
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
-    meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=int(n_lat),
+    meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=int(li.size),
                 cell_width=cw, lattice_Cn=Cn, lattice_C=C)
     return AcousticSystem(
         np.concatenate([x, centres]), np.concatenate([m_grain, np.full(n_c, m_c)]), n_g,
@@ -319,8 +346,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         np.concatenate([gkn, kn_gc]), np.concatenate([gkt, kt_gc]),
         np.concatenate([ggn, 2 * zeta * np.sqrt(kn_gc * m_red)]),
         np.concatenate([ggt, 2 * zeta * np.sqrt(kt_gc * m_red)]),
-        li + np.int32(n_g), lj + np.int32(n_g), ld, Cn + C / (_LATTICE_LENGTH2 * cw**2),
-        C / (_LATTICE_LENGTH2 * cw**2), thickness, extent, meta)
+        li + np.int32(n_g), lj + np.int32(n_g), ld, lat_kn, lat_kt, thickness, extent, meta)
 
 
 def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rule="waves",
@@ -330,19 +356,12 @@ def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rul
     Periodic in x and y, free ends in z. The homogeneous check of the lattice and of the pulse
     machinery: its P and S moduli are the cement's (:func:`md.cement.lattice_constants`).
     """
-    from ._kernels_acoustic import lattice_bonds
-
     nx, ny, nz = (int(s) for s in shape)
     if min(nx, ny) < 3 or nz < 2:
         raise ValueError(f"shape must have nx, ny >= 3 and nz >= 2 cells; got {shape}")
-    Cn, C, m_c = lattice_constants(cement, cell_width, rule)
+    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cell_width, rule)
     cells = np.arange(nx * ny * nz, dtype=np.int64)
-    where = cells.astype(np.int32)
-    n_lat = lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, True,
-                          np.zeros(0, np.int32), np.zeros(0, np.int32), np.zeros(0, np.int8))
-    li, lj = np.empty(n_lat, np.int32), np.empty(n_lat, np.int32)
-    ld = np.empty(n_lat, np.int8)
-    lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, False, li, lj, ld)
+    li, lj, ld = _lattice_bonds(cells, cells.astype(np.int32), (nx, ny, nz))
     i, j, k = cells % nx, (cells // nx) % ny, cells // (nx * ny)
     pos = (np.stack([i, j, k], axis=-1) + 0.5) * cell_width
     e = np.zeros(0)
@@ -350,8 +369,8 @@ def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rul
     return AcousticSystem(
         pos, np.full(cells.size, m_c), 0, Box(nx * cw, ny * cw, 0.0, nz * cw),
         np.zeros(0, np.int32), np.zeros(0, np.int32), np.zeros((0, 3)), e, e, e, e, li, lj, ld,
-        Cn + C / (_LATTICE_LENGTH2 * cw**2), C / (_LATTICE_LENGTH2 * cw**2),
-        4.0 * cw if slab_thickness is None else float(slab_thickness), (0.0, nz * cw),
+        lat_kn, lat_kt, 4.0 * cw if slab_thickness is None else float(slab_thickness),
+        (0.0, nz * cw),
         {"n_cement": int(cells.size), "cell_width": cw, "lattice_Cn": Cn, "lattice_C": C,
          "lattice_rule": rule})
 
@@ -431,16 +450,7 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     u_p = np.zeros((n, 3))
     ax = _wave_axis(wave)
     u_p[flag == 2, ax] = amp
-    # Diagonal of K (Jacobi preconditioner, and which particles carry bonds).
-    diag = np.zeros((n, 3))
-    nrm = np.concatenate([system.bond_normal, _LATTICE_NORMALS[system.lattice_dir]])
-    k_n = np.concatenate([system.bond_kn, system.lattice_kn[system.lattice_dir]])
-    k_t = np.concatenate([system.bond_kt, system.lattice_kt[system.lattice_dir]])
-    block_diag = (k_n - k_t)[:, None] * nrm**2 + k_t[:, None]
-    for ends in ((system.bond_i, system.lattice_i), (system.bond_j, system.lattice_j)):
-        idx = np.concatenate(ends)
-        for a in range(3):
-            diag[:, a] += np.bincount(idx, weights=block_diag[:, a], minlength=n)
+    diag = system.stiffness_diagonal()      # Jacobi preconditioner; zero: no bonds
     connected = _load_path(system, flag)
     free = ((flag == 0) & connected)[:, None] & (diag > 0)
     free_idx = np.flatnonzero(free.ravel())
@@ -500,9 +510,13 @@ def _first_peak(signal, floor=0.0):
         return -1
     above = signal >= 0.5 * top
     start = int(np.argmax(above))
-    stop = start + int(np.argmin(above[start:])) if not above[start:].all() else signal.size
-    if stop == signal.size and start > 0 and above[start:].all():
-        return -1                                       # still rising at the end of the record
+    run = above[start:]
+    if run.all():
+        if start > 0:
+            return -1                                   # still rising at the end of the record
+        stop = signal.size
+    else:
+        stop = start + int(np.argmin(run))
     return start + int(np.argmax(signal[start:stop]))
 
 

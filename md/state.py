@@ -97,7 +97,10 @@ def save_pack(pack: Pack, path) -> Path:
 
 
 def _atomic_netcdf(ds, path) -> Path:
-    """Write a Dataset to netCDF through a temporary file in the same folder, then rename."""
+    """Write a Dataset to netCDF through a temporary file in the same folder, then rename.
+
+    ``md`` keeps its own writer (it does not import ``rockcem``); ``rockcem._atomic`` is the
+    same mechanism for the rest of the project."""
     import os
     import tempfile
 
@@ -105,6 +108,9 @@ def _atomic_netcdf(ds, path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
+    umask = os.umask(0)                  # mkstemp makes the file private; give it the usual mode
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
         ds.to_netcdf(tmp, engine="netcdf4")
         os.replace(tmp, path)

@@ -48,12 +48,13 @@ def _summary(ds) -> str:
 def _run_md(raw, args) -> int:
     """An MD scene (a TOML with an [md] table): packs, cement, pulse tests (numba's md)."""
     from md.experiment import md_scene_from_dict, run_md_scene
-    from md.state import _atomic_netcdf
+
+    from .scene import write_dataset
 
     scene = md_scene_from_dict(raw)
     out = args.output or scene["output"]
     ds = run_md_scene(scene, progress=not args.quiet)
-    path = _atomic_netcdf(ds, out)
+    path = write_dataset(ds, out)
     if not args.quiet:
         v = next(n for n in ds.data_vars if n in ("vp", "vs"))
         print(f"MD scene {scene['name']}: {v} (km/s) over " + ", ".join(

@@ -28,6 +28,14 @@ def test_round_trip(rng, tmp_path):
     assert back.stage == "settle" and back.time == pack.time and back.metadata == pack.metadata
 
 
+def test_saved_pack_has_ordinary_permissions(rng, tmp_path):
+    """Like any new file (umask applied), not private as the temporary file was made."""
+    umask = os.umask(0)
+    os.umask(umask)
+    path = save_pack(make_pack(rng), tmp_path / "pack.nc")
+    assert os.stat(path).st_mode & 0o777 == 0o666 & ~umask
+
+
 def test_save_is_atomic(rng, tmp_path, monkeypatch):
     target = tmp_path / "pack.nc"
     target.write_bytes(b"previous stage")
