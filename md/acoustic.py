@@ -82,10 +82,12 @@ class AcousticSystem:
         Unit vectors from ``i`` to ``j``.
     bond_kn, bond_kt, bond_gn, bond_gt : ndarray
         Normal and tangential stiffnesses (N/m) and dashpots (N s/m).
-    lattice_i, lattice_j : ndarray of int32
-        Cement–cement bonds.
-    lattice_dir : ndarray of int8
-        Stencil direction of each lattice bond (row of :data:`md.cement.LATTICE_OFFSETS`).
+    lattice_neighbors : ndarray of int32, shape (n - n_grains, 9)
+        Cement–cement bonds as a neighbour table: row ``p`` belongs to particle
+        ``n_grains + p``, column ``d`` holds the particle index of its neighbour at the
+        half-stencil offset ``d`` (row of :data:`md.cement.LATTICE_OFFSETS`) or −1 (no bond);
+        each bond is stored once. :attr:`lattice_i`, :attr:`lattice_j` and
+        :attr:`lattice_dir` give the same bonds as a list.
     lattice_kn, lattice_kt : ndarray, shape (9,)
         Normal and tangential stiffness per direction: :math:`C_n + C/|x|^2` and :math:`C/|x|^2`.
     slab_thickness : float
@@ -104,9 +106,7 @@ class AcousticSystem:
     bond_kt: np.ndarray
     bond_gn: np.ndarray
     bond_gt: np.ndarray
-    lattice_i: np.ndarray
-    lattice_j: np.ndarray
-    lattice_dir: np.ndarray
+    lattice_neighbors: np.ndarray
     lattice_kn: np.ndarray
     lattice_kt: np.ndarray
     slab_thickness: float
@@ -125,9 +125,34 @@ class AcousticSystem:
         slab = np.floor((self.positions[:, 2] - z0) / self.slab_thickness).astype(np.int64)
         return np.clip(slab, 0, n_slabs - 1), n_slabs
 
+    def _lattice_list(self):
+        p, d = np.nonzero(self.lattice_neighbors >= 0)
+        return ((p + self.n_grains).astype(np.int32), self.lattice_neighbors[p, d],
+                d.astype(np.int8))
+
+    @property
+    def lattice_i(self) -> np.ndarray:
+        """First particle of every lattice bond (int32), in table order."""
+        return self._lattice_list()[0]
+
+    @property
+    def lattice_j(self) -> np.ndarray:
+        """Second particle of every lattice bond (int32), in table order."""
+        return self._lattice_list()[1]
+
+    @property
+    def lattice_dir(self) -> np.ndarray:
+        """Stencil direction of every lattice bond (int8), in table order."""
+        return self._lattice_list()[2]
+
+    @property
+    def n_lattice_bonds(self) -> int:
+        """Number of cement–cement bonds."""
+        return int(np.count_nonzero(self.lattice_neighbors >= 0))
+
     def _kernel_args(self):
         return (self.bond_i, self.bond_j, self.bond_normal, self.bond_kn, self.bond_kt,
-                self.bond_gn, self.bond_gt, self.lattice_i, self.lattice_j, self.lattice_dir,
+                self.bond_gn, self.bond_gt, self.lattice_neighbors, self.n_grains,
                 _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt)
 
     def forces(self, u, v=None) -> np.ndarray:
@@ -141,16 +166,17 @@ class AcousticSystem:
         sz = np.zeros(0)
         contact_forces(u, v, self.bond_i, self.bond_j, self.bond_normal, self.bond_kn,
                        self.bond_kt, self.bond_gn, self.bond_gt, f, sz, False, 2)
-        lattice_forces(u, self.lattice_i, self.lattice_j, self.lattice_dir, _LATTICE_NORMALS,
+        lattice_forces(u, self.lattice_neighbors, self.n_grains, _LATTICE_NORMALS,
                        self.lattice_kn, self.lattice_kt, f, sz, False, 2)
         return f
 
     def _bonds(self, kn, kt, lattice_kn, lattice_kt):
         """All bonds as ``(i, j, normal, k_n, k_t)``: the contact bonds with constants ``kn, kt``,
         then the lattice bonds with per-direction constants ``lattice_kn, lattice_kt``."""
-        ld = self.lattice_dir.astype(np.int64)
-        return (np.concatenate([self.bond_i, self.lattice_i]).astype(np.int64),
-                np.concatenate([self.bond_j, self.lattice_j]).astype(np.int64),
+        li, lj, ld = self._lattice_list()
+        ld = ld.astype(np.int64)
+        return (np.concatenate([self.bond_i, li]).astype(np.int64),
+                np.concatenate([self.bond_j, lj]).astype(np.int64),
                 np.concatenate([self.bond_normal, _LATTICE_NORMALS[ld]]),
                 np.concatenate([kn, lattice_kn[ld]]), np.concatenate([kt, lattice_kt[ld]]))
 
@@ -202,8 +228,8 @@ class AcousticSystem:
         from ._kernels_acoustic import gershgorin_rows
 
         rows = gershgorin_rows(self.n_particles, self.bond_i, self.bond_j, self.bond_normal,
-                               self.bond_kn, self.bond_kt, self.lattice_i, self.lattice_j,
-                               self.lattice_dir, _LATTICE_NORMALS, self.lattice_kn,
+                               self.bond_kn, self.bond_kt, self.lattice_neighbors,
+                               self.n_grains, _LATTICE_NORMALS, self.lattice_kn,
                                self.lattice_kt)
         return float(np.sqrt(np.max(rows / self.masses[:, None])))
 
@@ -216,18 +242,16 @@ def _lattice_springs(cement, cell_width, rule):
     return Cn, C, m_c, Cn + kt, kt
 
 
-def _lattice_bonds(cells, where, shape):
-    """Cement–cement bonds ``(i, j, direction)`` among the particles of the cemented ``cells``
-    (``where[cell]`` is a cell's particle index among them, −1 for an empty cell)."""
-    from ._kernels_acoustic import lattice_bonds
+def _lattice_table(cells, where, shape, first):
+    """Neighbour table of the cement–cement bonds among the particles of the cemented
+    ``cells`` (``where[cell]`` is a cell's index among them, −1 for an empty cell; particle
+    indices start at ``first``) and the number of bonds."""
+    from ._kernels_acoustic import lattice_table
 
     nx, ny, nz = shape
-    none = np.zeros(0, np.int32)
-    n = lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, True, none, none,
-                      np.zeros(0, np.int8))
-    li, lj, ld = np.empty(n, np.int32), np.empty(n, np.int32), np.empty(n, np.int8)
-    lattice_bonds(cells, where, nx, ny, nz, LATTICE_OFFSETS, False, li, lj, ld)
-    return li, lj, ld
+    table = np.empty((cells.size, LATTICE_OFFSETS.shape[0]), np.int32)
+    n = lattice_table(cells, where, nx, ny, nz, LATTICE_OFFSETS, first, table)
+    return table, int(n)
 
 
 def _contact_bonds_grains(pack: Pack, m, zeta):
@@ -299,14 +323,13 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     if not thickness > 0:
         raise ValueError(f"slab_thickness must be > 0 m; got {slab_thickness}")
     extent = (float(np.min(x[:, 2] - r)), float(np.max(x[:, 2] + r)))
-    empty_i = np.zeros(0, np.int32)
     meta = {"n_grain_contacts": int(gi.size), "n_cement": 0, "n_grain_cement": 0,
             "cement_vp": cement.vp, "cement_vs": cement.vs, "cement_density": cement.density,
             "lattice_rule": rule, "restitution": e, "mean_radius": float(r.mean())}
     if lattice is None or not np.any(cemented):
         return AcousticSystem(
             x, m_grain, n_g, pack.box, gi.astype(np.int32), gj.astype(np.int32), gnrm, gkn, gkt,
-            ggn, ggt, empty_i, empty_i, np.zeros(0, np.int8), np.zeros(9), np.zeros(9),
+            ggn, ggt, np.zeros((0, 9), np.int32), np.zeros(9), np.zeros(9),
             thickness, extent, meta)
     cemented = np.asarray(cemented, dtype=bool)
     if cemented.shape != lattice.index.shape:
@@ -321,12 +344,16 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     n_c = cells.size
     where = np.full(nx * ny * nz, -1, dtype=np.int32)
     where[cells] = np.arange(n_c, dtype=np.int32)
-    li, lj, ld = _lattice_bonds(cells, where, lattice.shape)
+    table, n_lattice = _lattice_table(cells, where, lattice.shape, n_g)
     dummy_i = np.zeros(0, np.int32)
     args = (x, r, where, pack.box.lx, pack.box.ly, lattice.z0, cw, nx, ny, nz)
     n_gc = grain_cement_bonds(*args, True, dummy_i, dummy_i, np.zeros((0, 3)))
     ci, cj, cnrm = np.empty(n_gc, np.int32), np.empty(n_gc, np.int32), np.empty((n_gc, 3))
     grain_cement_bonds(*args, False, ci, cj, cnrm)
+    # In cement-particle order: the sweep then reads the cement displacements in memory order
+    # (the few grains stay in cache), several times faster than grain order on big lattices.
+    order = np.argsort(cj, kind="stable")
+    ci, cj, cnrm = ci[order], cj[order], cnrm[order]
     # Mixed contact moduli (Johnson, Contact Mechanics, eqs. 4.22 and 7.42 for a flat contact).
     nu_g, nu_c = mat.poisson_ratio, cement.poisson_ratio
     E_star = 1.0 / ((1 - nu_g**2) / mat.young_modulus + (1 - nu_c**2) / cement.young_modulus)
@@ -338,7 +365,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     centres = lattice.centres()[cemented]
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
-    meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=int(li.size),
+    meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=n_lattice,
                 cell_width=cw, lattice_Cn=Cn, lattice_C=C)
     return AcousticSystem(
         np.concatenate([x, centres]), np.concatenate([m_grain, np.full(n_c, m_c)]), n_g,
@@ -346,7 +373,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         np.concatenate([gkn, kn_gc]), np.concatenate([gkt, kt_gc]),
         np.concatenate([ggn, 2 * zeta * np.sqrt(kn_gc * m_red)]),
         np.concatenate([ggt, 2 * zeta * np.sqrt(kt_gc * m_red)]),
-        li + np.int32(n_g), lj + np.int32(n_g), ld, lat_kn, lat_kt, thickness, extent, meta)
+        table, lat_kn, lat_kt, thickness, extent, meta)
 
 
 def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rule="waves",
@@ -361,14 +388,14 @@ def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rul
         raise ValueError(f"shape must have nx, ny >= 3 and nz >= 2 cells; got {shape}")
     Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cell_width, rule)
     cells = np.arange(nx * ny * nz, dtype=np.int64)
-    li, lj, ld = _lattice_bonds(cells, cells.astype(np.int32), (nx, ny, nz))
+    table, _ = _lattice_table(cells, cells.astype(np.int32), (nx, ny, nz), 0)
     i, j, k = cells % nx, (cells // nx) % ny, cells // (nx * ny)
     pos = (np.stack([i, j, k], axis=-1) + 0.5) * cell_width
     e = np.zeros(0)
     cw = float(cell_width)
     return AcousticSystem(
         pos, np.full(cells.size, m_c), 0, Box(nx * cw, ny * cw, 0.0, nz * cw),
-        np.zeros(0, np.int32), np.zeros(0, np.int32), np.zeros((0, 3)), e, e, e, e, li, lj, ld,
+        np.zeros(0, np.int32), np.zeros(0, np.int32), np.zeros((0, 3)), e, e, e, e, table,
         lat_kn, lat_kt, 4.0 * cw if slab_thickness is None else float(slab_thickness),
         (0.0, nz * cw),
         {"n_cement": int(cells.size), "cell_width": cw, "lattice_Cn": Cn, "lattice_C": C,
@@ -420,8 +447,9 @@ def _load_path(system: AcousticSystem, flag):
     from scipy.sparse.csgraph import connected_components
 
     n = system.n_particles
-    i = np.concatenate([system.bond_i, system.lattice_i])
-    j = np.concatenate([system.bond_j, system.lattice_j])
+    li, lj, _ = system._lattice_list()
+    i = np.concatenate([system.bond_i, li])
+    j = np.concatenate([system.bond_j, lj])
     graph = sp.coo_matrix((np.ones(i.size, np.int8), (i, j)), shape=(n, n))
     _, label = connected_components(graph, directed=False)
     anchored = np.unique(label[flag != 0])
