@@ -6,10 +6,13 @@ damping and Coulomb friction (:mod:`md.contact`), the periodic box and cell-list
 shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`), compaction
 (:func:`md.compact`), packs saved to netCDF between stages (:mod:`md.state`), the cement lattice
 with contact, coating and pore-body growth (:mod:`md.cement`) and the linearised acoustic stage
-with the pulse test and static moduli (:mod:`md.acoustic`).
+with the pulse test and static moduli (:mod:`md.acoustic`), and bonded-contact cement with
+static bulk and shear moduli (:mod:`md.bonded`).
 """
 
 from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
+from .bonded import BondedModuli, BondedSystem, bond_stiffness, bonded_moduli, bonded_system
+from .bonded import static_moduli as bonded_static_moduli
 from .cement import (HARD_CEMENT, SOFT_CEMENT, CementLattice, CementMaterial, cement_lattice,
                      grow_cement)
 from .contact import QUARTZ, GrainMaterial
@@ -22,4 +25,5 @@ __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_r
            "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack",
            "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
            "grow_cement", "AcousticSystem", "acoustic_system", "cement_block", "pulse_test",
-           "static_modulus"]
+           "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness", "bonded_system",
+           "bonded_static_moduli", "bonded_moduli"]

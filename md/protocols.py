@@ -234,7 +234,7 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
 
 
 def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step=2e-3,
-            slab=1.0, drag=2000.0, rest_tolerance=1e-4, max_increments=400,
+            slab=1.0, drag=2000.0, rest_tolerance=1e-4, max_increments=400, isotropic=False,
             progress=False) -> Pack:
     r"""Compact a settled pack between frozen end slabs (García & Medina, Sect. III A).
 
@@ -247,11 +247,17 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
     :func:`md.observe.contact_stress`) are recorded. The run stops at the first increment that
     reaches ``target_porosity`` or ``target_stress`` (Pa).
 
+    With ``isotropic=True`` each increment also shrinks the periodic lengths in x and y (and
+    the x, y positions with them) by ``strain_step``: an isotropic confinement, as Xu 2023
+    (Sect. 2.3) prepares its bonded samples. ``target_stress`` then refers to the mean stress
+    :math:`\mathrm{tr}\,\sigma/3`, recorded as ``stress_mean``.
+
     Returns
     -------
     Pack
         ``stage="compact"``; ``metadata["record"]`` holds the lists ``porosity``,
-        ``coordination_number``, ``stress_zz`` (Pa) and ``strain`` per increment.
+        ``coordination_number``, ``stress_zz`` and ``stress_mean`` (Pa) and ``strain`` per
+        increment.
     """
     from ._kernels_integrate import elastic_energy, verlet_run
     from .observe import contact_stress
@@ -289,7 +295,8 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
     hist = _remap_history(pack.pairs, pack.history, nl.pairs, n)
     v_ref = 0.01
     dt = stable_time_step(mat, r.min(), r.max(), v_ref)
-    record = {"strain": [], "porosity": [], "coordination_number": [], "stress_zz": []}
+    record = {"strain": [], "porosity": [], "coordination_number": [], "stress_zz": [],
+              "stress_mean": []}
     strain = 0.0
     from tqdm.auto import tqdm
 
@@ -298,6 +305,13 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
         centre = 0.5 * (x[:, 2].min() + x[:, 2].max())
         x[:, 2] = centre + (x[:, 2] - centre) * (1.0 - strain_step)
         strain += strain_step
+        if isotropic:                        # periodic images move in with the grains
+            x[:, :2] *= 1.0 - strain_step
+            box = Box(box.lx * (1.0 - strain_step), box.ly * (1.0 - strain_step), box.lz_min,
+                      box.lz_max)
+            old_pairs = nl.pairs
+            nl = build_neighbors(x, r, box, skin)
+            hist = _remap_history(old_pairs, hist, nl.pairs, n)
         for _relax in range(2000):
             verlet_run(x, v, w, r, m, nl.pairs, hist, np.array([box.lx, box.ly]), mat.E_f,
                        mat.G_f, beta, v_ref, mat.friction, dt, 200, 0.0, 0, np.zeros(0),
@@ -323,9 +337,11 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
         record["porosity"].append(phi)
         record["coordination_number"].append(coordination_number(mobile))
         record["stress_zz"].append(float(sigma[2, 2]))
+        record["stress_mean"].append(float(np.trace(sigma)) / 3.0)
         bar.update(1)
+        measure = record["stress_mean" if isotropic else "stress_zz"][-1]
         if (target_porosity is not None and phi <= target_porosity) or \
-                (target_stress is not None and sigma[2, 2] >= target_stress):
+                (target_stress is not None and measure >= target_stress):
             break
     else:
         raise RuntimeError(f"compact: target not reached in {max_increments} increments "
@@ -333,7 +349,8 @@ def compact(pack: Pack, *, target_porosity=None, target_stress=None, strain_step
                            f"stress {record['stress_zz'][-1]:.3g} Pa)")
     bar.close()
     return dataclasses.replace(cur, metadata={**pack.metadata, "record": record,
-                                              "strain_step": strain_step, "slab": slab})
+                                              "strain_step": strain_step, "slab": slab,
+                                              "isotropic": bool(isotropic)})
 
 
 def prepare_pack(workdir, *, settle_options=None, compact_options=None, progress=False) -> Pack:

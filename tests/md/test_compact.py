@@ -92,3 +92,16 @@ def test_prepare_pack_resumes_from_saved_stages(tmp_path, monkeypatch):
     np.testing.assert_allclose(again.positions, first.positions, rtol=1e-12)
     done = P.prepare_pack(tmp_path, settle_options=opts, compact_options=dict(target_stress=1e6))
     assert calls == ["settle", "compact", "compact"] and done.stage == "compact"
+
+
+def test_isotropic_compaction_shrinks_the_periodic_box(settled):
+    """isotropic=True: every increment shortens x, y (box and positions) and z alike; the mean
+    stress is recorded and stops the run."""
+    c = compact(settled, target_stress=1e6, strain_step=5e-4, isotropic=True)
+    rec = c.metadata["record"]
+    k = len(rec["strain"])
+    assert c.box.lx == pytest.approx(settled.box.lx * (1 - 5e-4) ** k, rel=1e-12)
+    assert c.box.ly == pytest.approx(settled.box.ly * (1 - 5e-4) ** k, rel=1e-12)
+    assert rec["stress_mean"][-1] >= 1e6 and all(s < 1e6 for s in rec["stress_mean"][:-1])
+    assert rec["porosity"][-1] < settled.metadata["porosity"]
+    assert c.metadata["isotropic"] is True

@@ -1,0 +1,614 @@
+r"""Bonded-contact cement: grains joined by cement bonds, and their static moduli.
+
+Xu 2023 (Sects. 2.2–2.3, Figs. 1–6) validates the contact cement theory (CCT, contact bonding:
+touching grains, :math:`h = 0`) and its contact-thickness extension (MCCT, distant bonding: a
+gap :math:`h` bridged by cement) with grain packs whose cemented pairs carry a *bond*: a disc
+of cement of radius :math:`a` between the two grains, with normal and shear springs, and
+bending and twisting resistance. This module builds such samples from an :class:`md.Pack`,
+linearises them (translations *and* rotations of every grain, 6 degrees of freedom) and
+computes the static bulk and shear moduli by sparse solves under isotropic and shear strain.
+
+Bond stiffness (this project's lumped model; the sources give the bond only as springs whose
+constants PFC calibrates). Each bond mode — normal, shear, bending, twisting — is a bed of
+local springs over the disc :math:`r \le a`: at radius :math:`r` a cement column of height
+:math:`t(r) = h + 2\left(\bar R - \sqrt{\bar R^2 - r^2}\right)` (the gap between two spheres
+of radius :math:`\bar R` whose surfaces are :math:`h` apart on the axis) in series with the two
+grains. The cement column responds as a thin layer, in uniaxial strain: stiffness per area
+:math:`M_c/t` normal and :math:`G_c/t` in shear (Dvorkin et al. 1994's layer, the one CCT
+integrates; :math:`M_c = K_c + \tfrac43 G_c`). Each grain is an elastic half-space loaded over
+the disc, taken as a bed of uniform stiffness per area chosen so that a disc of rigid cement
+(a welded contact) gets the exact rigid-punch stiffness of the pair (Johnson, *Contact
+Mechanics*, 1985: normal :math:`2aE/(1-\nu^2)`, tangential :math:`8Ga/(2-\nu)`, tilting
+:math:`\tfrac43 E a^3/(1-\nu^2)`, torsion :math:`\tfrac{16}{3} G a^3` per half-space). The
+grain bed acts as an extra cement height :math:`t_g = 2 C / s_g` (:math:`C` the cement modulus of
+the mode, :math:`s_g` the grain bed per area), so
+
+.. math::
+
+    k_n = 2\pi M_c \int_0^a \frac{r\,dr}{t(r) + t_{g,n}}, \quad
+    k_s = 2\pi G_c \int_0^a \frac{r\,dr}{t(r) + t_{g,s}}, \quad
+    k_b = \pi M_c \int_0^a \frac{r^3\,dr}{t(r) + t_{g,b}}, \quad
+    k_w = 2\pi G_c \int_0^a \frac{r^3\,dr}{t(r) + t_{g,w}},
+
+in closed form (:func:`bond_stiffness`). Both limits are exact for this geometry: rigid cement
+gives the welded contact of radius :math:`a`, rigid grains give the thin-layer integral. At
+:math:`h = 0` the layer alone would be infinitely stiff (log-divergent at the axis); the grains
+keep the bond finite, as in CCT.
+
+The linearised sample: for a bond between grains :math:`i, j` with unit normal :math:`\hat n`
+(from :math:`i` to :math:`j`) and branch vector :math:`\mathbf l = |\mathbf l|\hat n`, the
+relative displacement of the two faces at the contact point (arms :math:`r_i^*, r_j^*` with
+:math:`r_i^* + r_j^* = |\mathbf l|`) is
+:math:`\boldsymbol\delta = \mathbf u_j - \mathbf u_i + r_j^*\,\hat n\times\boldsymbol\theta_j
++ r_i^*\,\hat n\times\boldsymbol\theta_i` and the relative rotation
+:math:`\Delta\boldsymbol\theta = \boldsymbol\theta_j - \boldsymbol\theta_i`; the bond energy is
+:math:`\tfrac12[k_n\delta_n^2 + k_s|\boldsymbol\delta_t|^2 + k_w\Delta\theta_n^2
++ k_b|\Delta\boldsymbol\theta_t|^2]`. A rigid motion of the whole pack costs nothing. Touching
+grains (contact bonding) also keep their linearised Hertz–Mindlin contact
+(:math:`2E_f a_H`, :math:`8 G_f a_H`, no rolling resistance) in parallel, as PFC's parallel
+bond acts beside the linear contact (Xu 2023, Sect. 2.2). Pre-stress (geometric stiffness) is
+left out, as in :mod:`md.acoustic`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from .contact import GrainMaterial
+from .state import Pack
+
+__all__ = ["BondStiffness", "bond_stiffness", "bond_cement_volume", "BondedSystem",
+           "bonded_system", "BondedModuli", "static_moduli", "bonded_moduli"]
+
+
+class BondStiffness(NamedTuple):
+    """Stiffnesses of a cement bond: ``normal`` and ``shear`` (N/m), ``bending`` and
+    ``twisting`` (N m/rad)."""
+
+    normal: np.ndarray
+    shear: np.ndarray
+    bending: np.ndarray
+    twisting: np.ndarray
+
+
+def _check_moduli(name, bulk, shear):
+    bulk, shear = float(bulk), float(shear)
+    if not (np.isfinite(bulk) and bulk > 0):
+        raise ValueError(f"{name}_bulk must be a finite modulus > 0 Pa; got {bulk}")
+    if not (np.isfinite(shear) and shear > 0):
+        raise ValueError(f"{name}_shear must be a finite modulus > 0 Pa; got {shear}")
+    nu = (3 * bulk - 2 * shear) / (2 * (3 * bulk + shear))
+    if not -1.0 < nu < 0.5:
+        raise ValueError(f"{name} moduli give a Poisson ratio {nu:.3f} outside (-1, 0.5)")
+    return bulk, shear, nu
+
+
+def _f_moments(x, kmax=3, terms=60):
+    r""":math:`F_k(x) = \int_0^x t^k/(1+t)\,dt` for :math:`k = 0 \dots k_{max}`, without
+    cancellation: the power series :math:`\sum_m (-1)^m x^{k+m+1}/(k+m+1)` below
+    :math:`x = 1/2`, the recursion :math:`F_0 = \ln(1+x)`, :math:`F_k = x^k/k - F_{k-1}` above."""
+    x = np.asarray(x, dtype=float)
+    small = x < 0.5
+    xs = np.where(small, x, 0.0)
+    out = []
+    f_prev = np.log1p(x)
+    for k in range(kmax + 1):
+        m = np.arange(terms)
+        series = np.sum((-1.0) ** m * xs[..., None] ** (k + m + 1) / (k + m + 1), axis=-1)
+        direct = f_prev if k == 0 else x**k / k - f_prev
+        f_k = np.where(small, series, direct)
+        out.append(f_k)
+        f_prev = np.where(small, np.log1p(x) if k == 0 else x**k / k - f_prev, f_k)
+    return out
+
+
+def _layer_integrals(R, a, w0):
+    r""":math:`\int_0^a r\,dr/(w_0 + g)` and :math:`\int_0^a r^3 dr/(w_0 + g)` with
+    :math:`g = 2(R - \sqrt{R^2 - r^2})`, in closed form.
+
+    In the variable :math:`g` (:math:`r\,dr = (R - g/2)\,dg/2`,
+    :math:`r^2 = g(R - g/4)`) both become :math:`\tfrac12\int_0^{g_a} P(g)/(w_0+g)\,dg` with
+    :math:`P = R - g/2` and :math:`P = R^2 g - \tfrac34 R g^2 + \tfrac18 g^3`;
+    with :math:`g = w_0 t` and :math:`x = g_a/w_0` they are sums of
+    :math:`w_0^k F_k(x)` (:func:`_f_moments`), accurate from :math:`w_0 \ll g_a` (thin
+    layer, contact bonding) to :math:`w_0 \gg R` (stiff cement). ``w0 > 0``.
+    """
+    s_a = np.sqrt(np.maximum(R * R - a * a, 0.0))
+    g_a = 2.0 * (R - s_a)
+    F0, F1, F2, F3 = _f_moments(g_a / w0)
+    j0 = 0.5 * (R * F0 - 0.5 * w0 * F1)
+    j2 = 0.5 * (R * R * w0 * F1 - 0.75 * R * w0**2 * F2 + 0.125 * w0**3 * F3)
+    return j0, j2
+
+
+def bond_stiffness(radius, radius_ratio, thickness_ratio, grain_bulk, grain_shear,
+                   cement_bulk, cement_shear) -> BondStiffness:
+    r"""Normal, shear, bending and twisting stiffness of a cement bond (lumped model of the
+    module docstring).
+
+    Parameters
+    ----------
+    radius : array_like
+        Grain radius :math:`\bar R`, m (for unequal grains the harmonic mean
+        :math:`2R_iR_j/(R_i+R_j)`), ``> 0``.
+    radius_ratio : array_like
+        :math:`\alpha = a/\bar R`, the bond radius over the grain radius, in (0, 1].
+    thickness_ratio : array_like
+        :math:`\varepsilon = h/\bar R`, the cement thickness on the axis, ``>= 0`` (0: contact
+        bonding).
+    grain_bulk, grain_shear, cement_bulk, cement_shear : float
+        Moduli, Pa, ``> 0``.
+
+    Returns
+    -------
+    BondStiffness
+        Arrays of the broadcast shape.
+    """
+    R = np.asarray(radius, dtype=float)
+    alpha = np.asarray(radius_ratio, dtype=float)
+    eps = np.asarray(thickness_ratio, dtype=float)
+    if not np.all(np.isfinite(R) & (R > 0)):
+        raise ValueError("radius must be finite and > 0 m")
+    if not np.all((alpha > 0) & (alpha <= 1)):
+        raise ValueError("radius_ratio (a/R) must lie in (0, 1]")
+    if not np.all(np.isfinite(eps) & (eps >= 0)):
+        raise ValueError("thickness_ratio (h/R) must be finite and >= 0")
+    Kg, Gg, nug = _check_moduli("grain", grain_bulk, grain_shear)
+    Kc, Gc, _ = _check_moduli("cement", cement_bulk, cement_shear)
+    R, alpha, eps = np.broadcast_arrays(R, alpha, eps)
+    a = alpha * R
+    h = eps * R
+    Mc = Kc + 4.0 * Gc / 3.0
+    Eg_star = 2.0 * Gg * (1.0 + nug) / (1.0 - nug**2)     # E/(1 - nu^2) of the grain
+    area, polar = np.pi * a * a, 0.5 * np.pi * a**4
+    # Grain bed per area and half-space, matched to the rigid-punch stiffnesses (Johnson 1985).
+    bed_n = 2.0 * a * Eg_star / area
+    bed_s = 8.0 * Gg * a / (2.0 - nug) / area
+    bed_b = (4.0 / 3.0) * Eg_star * a**3 / (0.5 * polar)
+    bed_w = (16.0 / 3.0) * Gg * a**3 / polar
+    out = []
+    # (cement modulus, grain bed, which integral, angular factor): normal and shear integrate
+    # r dr over the disc (2 pi), bending r^3 cos^2 phi (pi), twisting r^3 (2 pi).
+    for modulus, bed, moment, factor in ((Mc, bed_n, 0, 2.0 * np.pi), (Gc, bed_s, 0, 2.0 * np.pi),
+                                         (Mc, bed_b, 1, np.pi), (Gc, bed_w, 1, 2.0 * np.pi)):
+        w0 = h + 2.0 * modulus / bed                      # two grains in series: t_g = 2C/bed
+        out.append(factor * modulus * _layer_integrals(R, a, w0)[moment])
+    return BondStiffness(*out)
+
+
+def bond_cement_volume(radius, radius_ratio, thickness_ratio):
+    r"""Volume of the cement of one bond: the disc :math:`r \le a` between two spheres of
+    radius :math:`\bar R` whose surfaces are :math:`h` apart,
+    :math:`\pi a^2 h + 2[\pi \bar R a^2 - \tfrac{2\pi}{3}(\bar R^3 - (\bar R^2 - a^2)^{3/2})]`,
+    m³."""
+    R = np.asarray(radius, dtype=float)
+    a = np.asarray(radius_ratio, dtype=float) * R
+    h = np.asarray(thickness_ratio, dtype=float) * R
+    s3 = np.maximum(R * R - a * a, 0.0) ** 1.5
+    cap = np.pi * R * a * a - 2.0 * np.pi / 3.0 * (R**3 - s3)
+    return np.pi * a * a * h + 2.0 * cap
+
+
+@dataclass(frozen=True)
+class BondedSystem:
+    """Grains, bonds and contacts of a bonded sample, linearised (6 degrees of freedom per
+    grain: displacement, then rotation).
+
+    Attributes
+    ----------
+    positions : ndarray, shape (n, 3)
+        Grain centres, m (x, y wrapped into the box).
+    radii : ndarray, shape (n,)
+        m (reduced by :math:`h/2` for distant bonding).
+    box : Box
+    pair_i, pair_j : ndarray of int64
+        Grains of every link (bonds, then bare Hertz contacts).
+    branch : ndarray, shape (m, 3)
+        Vector from ``i`` to ``j`` (minimum image), m.
+    shift : ndarray, shape (m, 3)
+        ``branch - (x_j - x_i)``: the periodic image shift, m.
+    arm_i, arm_j : ndarray
+        Distances from the centres to the contact point, m.
+    kn, ks, kb, kw : ndarray
+        Normal and shear stiffness (N/m), bending and twisting stiffness (N m/rad).
+    boundary : ndarray of bool
+        Grains of the two end slabs, whose motion is prescribed.
+    core : (float, float)
+        z range of the core where stress and strain are measured, m.
+    metadata : dict
+    """
+
+    positions: np.ndarray
+    radii: np.ndarray
+    box: object
+    pair_i: np.ndarray
+    pair_j: np.ndarray
+    branch: np.ndarray
+    shift: np.ndarray
+    arm_i: np.ndarray
+    arm_j: np.ndarray
+    kn: np.ndarray
+    ks: np.ndarray
+    kb: np.ndarray
+    kw: np.ndarray
+    boundary: np.ndarray
+    core: tuple
+    metadata: dict = field(default_factory=dict)
+
+    @property
+    def n_grains(self) -> int:
+        return int(self.radii.size)
+
+    def frames(self):
+        """Unit normal and two tangents of every link, each shape (m, 3)."""
+        n = self.branch / np.linalg.norm(self.branch, axis=1)[:, None]
+        helper = np.where(np.abs(n[:, [0]]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        t1 = np.cross(n, helper)
+        t1 /= np.linalg.norm(t1, axis=1)[:, None]
+        return n, t1, np.cross(n, t1)
+
+    def _b_matrices(self):
+        """Per link the 6 x 12 map from (u_i, theta_i, u_j, theta_j) to the local measures
+        (delta . e, for e = n, t1, t2; then dtheta . e)."""
+        n, t1, t2 = self.frames()
+        m = n.shape[0]
+        B = np.zeros((m, 6, 12))
+        for row, e in enumerate((n, t1, t2)):
+            exn = np.cross(e, n)                          # e . (n x theta) = theta . (e x n)
+            B[:, row, 0:3] = -e
+            B[:, row, 3:6] = self.arm_i[:, None] * exn
+            B[:, row, 6:9] = e
+            B[:, row, 9:12] = self.arm_j[:, None] * exn
+            B[:, 3 + row, 3:6] = -e
+            B[:, 3 + row, 9:12] = e
+        return B, (n, t1, t2)
+
+    def _d(self):
+        return np.stack([self.kn, self.ks, self.ks, self.kw, self.kb, self.kb], axis=1)
+
+    def _dofs(self):
+        i, j = self.pair_i, self.pair_j
+        return np.concatenate([6 * i[:, None] + np.arange(6), 6 * j[:, None] + np.arange(6)],
+                              axis=1)
+
+    def stiffness_matrix(self):
+        """:math:`K` (6n x 6n, ``scipy.sparse`` CSR): N/m, N/rad, N m/m, N m/rad blocks."""
+        import scipy.sparse as sp
+
+        B, _ = self._b_matrices()
+        Kb = np.einsum("mai,ma,maj->mij", B, self._d(), B)
+        dof = self._dofs()
+        rows = np.repeat(dof, 12, axis=1).ravel()
+        cols = np.tile(dof, (1, 12)).ravel()
+        size = 6 * self.n_grains
+        return sp.csr_matrix((Kb.ravel(), (rows, cols)), shape=(size, size))
+
+    def link_forces(self, q, strain):
+        """Force on ``j`` of every link (global frame), N, for the degrees of freedom ``q``
+        (shape (n, 6)) under the macroscopic ``strain`` (3 x 3) carried by the periodic
+        image shifts."""
+        B, (n, t1, t2) = self._b_matrices()
+        dof = self._dofs()
+        local = np.einsum("mai,mi->ma", B, q.reshape(-1)[dof])
+        shift = self.shift @ np.asarray(strain, dtype=float).T
+        for row, e in enumerate((n, t1, t2)):
+            local[:, row] += np.einsum("mi,mi->m", e, shift)
+        k = self._d()
+        f = k[:, :3] * local[:, :3]
+        return -(f[:, [0]] * n + f[:, [1]] * t1 + f[:, [2]] * t2)
+
+
+def _pairs(pack: Pack, gap):
+    from .neighbors import build_neighbors
+    from .space import minimum_image
+
+    x, r = pack.positions, pack.radii
+    p = build_neighbors(x, r, pack.box, gap).pairs.astype(np.int64)
+    raw = x[p[:, 1]] - x[p[:, 0]]
+    d = minimum_image(raw, pack.box)
+    dist = np.linalg.norm(d, axis=1)
+    surface_gap = dist - r[p[:, 0]] - r[p[:, 1]]
+    keep = surface_gap <= gap
+    return p[keep], d[keep], (d - raw)[keep], dist[keep], surface_gap[keep]
+
+
+def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
+                  cement_shear, contact_gap=None, slab=1.0) -> BondedSystem:
+    r"""Bond the touching grains of a (confined) pack with cement bonds.
+
+    Every pair of grains whose surfaces are closer than ``contact_gap`` (default
+    :math:`10^{-3}\bar R`) gets a bond of radius :math:`a = \alpha\bar R` and thickness
+    :math:`h = \varepsilon\bar R` (:func:`bond_stiffness`, :math:`\bar R` the pair's harmonic
+    mean radius). Contact bonding (:math:`\varepsilon = 0`): the overlapping pairs keep their
+    linearised Hertz–Mindlin contact in parallel. Distant bonding (:math:`\varepsilon > 0`):
+    the grains are shrunk by :math:`h/2` about their centres, so a bonded pair is :math:`h`
+    apart and bare contacts vanish (Xu 2023, Fig. 3b).
+
+    Parameters
+    ----------
+    pack : Pack
+        A pack at mechanical equilibrium, e.g. isotropically compacted
+        (:func:`md.compact` with ``isotropic=True``).
+    radius_ratio : float
+        :math:`a/R`, in (0, 1].
+    thickness_ratio : float
+        :math:`h/R`, in [0, 0.5).
+    cement_bulk, cement_shear : float, keyword-only
+        Cement moduli, Pa.
+    contact_gap : float, optional
+        Largest surface gap of a bonded pair, m.
+    slab : float
+        Thickness of the end slabs whose grains are moved affinely, in largest grain
+        diameters (the core lies between them).
+
+    Returns
+    -------
+    BondedSystem
+    """
+    if not isinstance(pack, Pack):
+        raise ValueError(f"pack must be an md.Pack; got {type(pack).__name__}")
+    alpha, eps = float(radius_ratio), float(thickness_ratio)
+    if not 0.0 < alpha <= 1.0:
+        raise ValueError(f"radius_ratio (a/R) must lie in (0, 1]; got {radius_ratio}")
+    if not 0.0 <= eps < 0.5:
+        raise ValueError(f"thickness_ratio (h/R) must lie in [0, 0.5); got {thickness_ratio}")
+    mat: GrainMaterial = pack.material
+    r0 = pack.radii
+    gap = 1e-3 * float(r0.mean()) if contact_gap is None else float(contact_gap)
+    if not gap >= 0:
+        raise ValueError(f"contact_gap must be >= 0 m; got {contact_gap}")
+    p, branch, shift, dist, surface_gap = _pairs(pack, gap)
+    if p.shape[0] == 0:
+        raise ValueError("the pack has no touching grains to bond")
+    ri, rj = r0[p[:, 0]], r0[p[:, 1]]
+    R_bar = 2.0 * ri * rj / (ri + rj)
+    nu = mat.poisson_ratio
+    K_grain = 2.0 * mat.shear_modulus * (1 + nu) / (3 * (1 - 2 * nu))
+    bs = bond_stiffness(R_bar, alpha, eps, K_grain, mat.shear_modulus, cement_bulk,
+                        cement_shear)
+    kn, ks, kb, kw = (np.array(v, dtype=float) for v in bs)
+    arm_i = dist * ri / (ri + rj)
+    arm_j = dist - arm_i
+    if eps == 0.0:
+        xi = -surface_gap
+        touch = xi > 0
+        a_H = np.sqrt(np.where(touch, ri * rj / (ri + rj) * np.maximum(xi, 0.0), 0.0))
+        kn = kn + 2.0 * mat.E_f * a_H
+        ks = ks + 8.0 * mat.G_f * a_H
+    radii = r0 * (1.0 - 0.5 * eps)                       # bonded pairs end up ~h apart
+    x = pack.positions.copy()
+    x[:, 0] %= pack.box.lx
+    x[:, 1] %= pack.box.ly
+    d = 2.0 * r0.max()
+    z_lo, z_hi = x[:, 2].min() + slab * d, x[:, 2].max() - slab * d
+    if not z_hi > z_lo:
+        raise ValueError("slab: the end slabs leave no core between them")
+    boundary = (x[:, 2] < z_lo) | (x[:, 2] > z_hi)
+    mid = x[p[:, 0], 2] + 0.5 * branch[:, 2]
+    in_core = (mid >= z_lo) & (mid < z_hi)
+    volume_core = pack.box.lx * pack.box.ly * (z_hi - z_lo)
+    from .protocols import porosity as pack_porosity
+
+    shrunk = Pack(x, pack.velocities, pack.angular_velocities, radii, pack.box, mat,
+                  pack.pairs, pack.history) if eps else pack
+    phi_grains = pack_porosity(shrunk, bottom=z_lo, top=z_hi)
+    cement_volume = float(np.sum(bond_cement_volume(R_bar[in_core], alpha, eps)))
+    core_grains = ~boundary
+    counts = np.bincount(p.ravel(), minlength=r0.size)
+    meta = {"radius_ratio": alpha, "thickness_ratio": eps, "cement_bulk": float(cement_bulk),
+            "cement_shear": float(cement_shear), "grain_bulk": K_grain,
+            "grain_shear": mat.shear_modulus, "mean_radius": float(r0.mean()),
+            "porosity_uncemented": phi_grains,
+            "porosity": phi_grains - cement_volume / volume_core,
+            "cement_fraction": cement_volume / volume_core,
+            "coordination_number": float(counts[core_grains].mean()),
+            "n_bonds": int(p.shape[0]), "volume_core": volume_core}
+    return BondedSystem(x, radii, pack.box, p[:, 0], p[:, 1], branch, shift, arm_i, arm_j,
+                        kn, ks, kb, kw, boundary, (float(z_lo), float(z_hi)), meta)
+
+
+class BondedModuli(NamedTuple):
+    """Static moduli of a bonded sample, Pa: relaxed ``bulk`` and ``shear`` (mean of the xz,
+    yz and xy shears), ``shear_components`` (xz, yz, xy), and the affine (unrelaxed, grains
+    moved with the mean strain, no rotation) ``bulk_affine`` and ``shear_affine``."""
+
+    bulk: float
+    shear: float
+    shear_components: tuple
+    bulk_affine: float
+    shear_affine: float
+
+
+def _connected(system: BondedSystem):
+    """Grains linked (directly or through others) to the prescribed end slabs."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    n = system.n_grains
+    g = sp.coo_matrix((np.ones(system.pair_i.size), (system.pair_i, system.pair_j)),
+                      shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    return np.isin(label, np.unique(label[system.boundary]))
+
+
+def _core_fraction(system: BondedSystem):
+    """Fraction of each link's centre-to-centre segment that lies in the core slab: the
+    weight of the link in the volume average of the Irving–Kirkwood stress over the core
+    (exact for a region cut by planes, where the midpoint rule is not)."""
+    z_lo, z_hi = system.core
+    za = system.positions[system.pair_i, 2]
+    zb = za + system.branch[:, 2]
+    lo, hi = np.minimum(za, zb), np.maximum(za, zb)
+    span = hi - lo
+    inside = np.clip(np.minimum(hi, z_hi) - np.maximum(lo, z_lo), 0.0, None)
+    flat = span <= 1e-12 * np.abs(system.branch).max()
+    return np.where(flat, ((lo >= z_lo) & (lo < z_hi)).astype(float),
+                    inside / np.where(flat, 1.0, span))
+
+
+def _response(system: BondedSystem, K, strain, relax):
+    """Stress (virial of the core links, tension positive) and least-squares strain of the
+    core grains for a macroscopic ``strain`` imposed on the end slabs and the periodic
+    images."""
+    from scipy.sparse.linalg import spsolve
+
+    E = np.asarray(strain, dtype=float)
+    n = system.n_grains
+    x = system.positions
+    q = np.zeros((n, 6))
+    q[:, :3] = x @ E.T                                   # affine start, no rotation
+    if relax:
+        live = _connected(system)
+        free = live & ~system.boundary
+        free_dof = (6 * np.flatnonzero(free)[:, None] + np.arange(6)).ravel()
+        # Gradient of the energy at the affine state: K q + (shift terms).
+        B, frames = system._b_matrices()
+        dof = system._dofs()
+        shift = system.shift @ E.T
+        c = np.zeros((system.pair_i.size, 6))
+        for row, e in enumerate(frames):
+            c[:, row] = np.einsum("mi,mi->m", e, shift)
+        g_shift = np.zeros(6 * n)
+        np.add.at(g_shift, dof.ravel(), np.einsum("mai,ma,ma->mi", B, system._d(), c).ravel())
+        grad = K @ q.ravel() + g_shift
+        Kff = K[free_dof][:, free_dof].tocsc()
+        dq = spsolve(Kff, -grad[free_dof])
+        q.reshape(-1)[free_dof] += dq
+    f_j = system.link_forces(q, E)
+    stress = -np.einsum("m,mi,mj->ij", _core_fraction(system), system.branch, f_j) / \
+        system.metadata["volume_core"]
+    stress = 0.5 * (stress + stress.T)
+    # Mean displacement gradient of the core: the x and y derivatives are the imposed ones
+    # (the fluctuations are periodic in x and y); the z derivatives are the least-squares
+    # slope of the core grains' displacements (less their imposed x, y part) against z.
+    z_lo, z_hi = system.core
+    inside = ~system.boundary & (x[:, 2] >= z_lo) & (x[:, 2] < z_hi)
+    grad_u = E.copy()
+    rest = q[inside, :3] - x[inside, :2] @ E[:, :2].T
+    zc = x[inside, 2] - x[inside, 2].mean()
+    grad_u[:, 2] = zc @ (rest - rest.mean(axis=0)) / (zc @ zc)
+    return stress, 0.5 * (grad_u + grad_u.T)
+
+
+def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
+    r"""Static bulk and shear moduli of a bonded sample by sparse solves.
+
+    The end-slab grains are moved with a macroscopic strain (their rotations held at 0), the
+    periodic images in x and y carry the same strain, and the other grains (those linked to
+    the end slabs; isolated clusters drop out) relax to equilibrium: one sparse direct solve
+    of :math:`K_{ff}\,q_f = -g_f` per strain. Stress: the symmetrised virial
+    :math:`\sigma = -\frac1V\sum \mathbf l\otimes\mathbf f_j` of the links whose midpoint lies
+    over the core, each link weighted by the fraction of its segment inside the core (tension
+    positive); strain: the imposed x and y derivatives of the displacement (exact: the
+    fluctuations are periodic) and the least-squares z derivatives of the core grains'
+    displacements. Bulk: isotropic strain, :math:`K = \tfrac13\mathrm{tr}\,\sigma /
+    \mathrm{tr}\,\varepsilon`; shear: pure shears in xz, yz and xy,
+    :math:`G = \sigma_{ab}/(2\varepsilon_{ab})`, averaged.
+
+    Parameters
+    ----------
+    system : BondedSystem
+    strain : float
+        Size of the imposed strain (the response is linear; it only scales), ``> 0``.
+
+    Returns
+    -------
+    BondedModuli
+    """
+    if not strain > 0:
+        raise ValueError(f"strain must be > 0; got {strain}")
+    K = system.stiffness_matrix()
+    iso = strain * np.eye(3)
+    shears = []
+    for a, b in ((0, 2), (1, 2), (0, 1)):
+        E = np.zeros((3, 3))
+        E[a, b] = E[b, a] = 0.5 * strain
+        shears.append((E, a, b))
+    out = {}
+    for relax in (True, False):
+        s, e = _response(system, K, iso, relax)
+        bulk = np.trace(s) / 3.0 / np.trace(e)
+        g = []
+        for E, a, b in shears:
+            s, e = _response(system, K, E, relax)
+            g.append(s[a, b] / (2.0 * e[a, b]))
+        out[relax] = (float(bulk), tuple(float(v) for v in g))
+    return BondedModuli(out[True][0], float(np.mean(out[True][1])), out[True][1],
+                        out[False][0], float(np.mean(out[False][1])))
+
+
+def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_bulk,
+                  cement_shear, contact_gap=None, slab=1.0, progress=False):
+    """Static moduli of a pack bonded over a grid of bond radii and thicknesses.
+
+    Parameters
+    ----------
+    pack : Pack
+    radius_ratios, thickness_ratios : sequence of float
+        :math:`a/R` and :math:`h/R` (see :func:`bonded_system`).
+    cement_bulk, cement_shear : float, keyword-only
+        Pa.
+    contact_gap, slab
+        As in :func:`bonded_system`.
+    progress : bool
+        Progress bar.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``radius_ratio`` and ``thickness_ratio``: ``K``, ``G``, ``K_affine``,
+        ``G_affine`` (GPa), ``G_xz``, ``G_yz``, ``G_xy`` (GPa), ``porosity``,
+        ``cement_fraction``; scalars ``porosity_uncemented`` and ``coordination_number``;
+        grain and cement moduli (GPa) and the mean grain radius (m) in attrs.
+    """
+    import xarray as xr
+    from tqdm.auto import tqdm
+
+    a_list = [float(v) for v in np.atleast_1d(radius_ratios)]
+    h_list = [float(v) for v in np.atleast_1d(thickness_ratios)]
+    shape = (len(a_list), len(h_list))
+    names = ("K", "G", "K_affine", "G_affine", "G_xz", "G_yz", "G_xy", "porosity",
+             "cement_fraction")
+    data = {k: np.full(shape, np.nan) for k in names}
+    meta = {}
+    with tqdm(total=shape[0] * shape[1], disable=not progress, desc="bonded moduli") as bar:
+        for ia, a in enumerate(a_list):
+            for ih, h in enumerate(h_list):
+                system = bonded_system(pack, a, h, cement_bulk=cement_bulk,
+                                       cement_shear=cement_shear, contact_gap=contact_gap,
+                                       slab=slab)
+                m = static_moduli(system)
+                meta = system.metadata
+                values = (m.bulk, m.shear, m.bulk_affine, m.shear_affine,
+                          *m.shear_components)
+                for k, v in zip(names[:7], values):
+                    data[k][ia, ih] = v / 1e9
+                data["porosity"][ia, ih] = meta["porosity"]
+                data["cement_fraction"][ia, ih] = meta["cement_fraction"]
+                bar.update(1)
+    units = {"K": "GPa", "G": "GPa", "K_affine": "GPa", "G_affine": "GPa", "G_xz": "GPa",
+             "G_yz": "GPa", "G_xy": "GPa", "porosity": "1", "cement_fraction": "1"}
+    long = {"K": "static bulk modulus (relaxed)", "G": "static shear modulus (relaxed, mean)",
+            "K_affine": "bulk modulus, affine (unrelaxed)",
+            "G_affine": "shear modulus, affine (unrelaxed)", "G_xz": "shear modulus xz",
+            "G_yz": "shear modulus yz", "G_xy": "shear modulus xy",
+            "porosity": "porosity (grains and bond cement)",
+            "cement_fraction": "bond cement volume fraction"}
+    dims = ("radius_ratio", "thickness_ratio")
+    ds = xr.Dataset(
+        {k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()},
+        coords={"radius_ratio": ("radius_ratio", a_list, {"long_name": "bond radius a/R"}),
+                "thickness_ratio": ("thickness_ratio", h_list,
+                                    {"long_name": "cement thickness h/R"})})
+    ds["porosity_uncemented"] = ((), meta["porosity_uncemented"], {"units": "1"})
+    ds["coordination_number"] = ((), meta["coordination_number"], {"units": "1"})
+    ds.attrs.update(grain_bulk_GPa=meta["grain_bulk"] / 1e9,
+                    grain_shear_GPa=meta["grain_shear"] / 1e9,
+                    cement_bulk_GPa=float(cement_bulk) / 1e9,
+                    cement_shear_GPa=float(cement_shear) / 1e9,
+                    mean_radius_m=meta["mean_radius"], n_grains=int(pack.n_grains),
+                    references="Xu 2023, Sects. 2.2-2.3, Figs. 4-6; md.bonded docstring")
+    return ds

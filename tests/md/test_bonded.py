@@ -1,0 +1,173 @@
+"""Bonded-contact cement (md.bonded): bond stiffness limits and closed forms, the 6-dof
+linearised operator, and static moduli of lattices with known moduli."""
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from md.bonded import (_layer_integrals, bond_cement_volume, bond_stiffness, bonded_moduli,
+                       bonded_system, static_moduli)
+from md.contact import QUARTZ
+from md.space import Box
+from md.state import Pack
+
+G_GRAIN, NU_GRAIN = QUARTZ.shear_modulus, QUARTZ.poisson_ratio
+K_GRAIN = 2 * G_GRAIN * (1 + NU_GRAIN) / (3 * (1 - 2 * NU_GRAIN))
+E_STAR = 2 * G_GRAIN * (1 + NU_GRAIN) / (1 - NU_GRAIN**2)       # E/(1 - nu^2)
+
+
+def gap(r, R):
+    return 2 * (R - np.sqrt(R * R - r * r))
+
+
+@pytest.mark.parametrize("R,a,w0", [(1.0, 0.5, 0.02), (2e-4, 1e-4, 1e-9), (1.0, 1.0, 0.3),
+                                    (1.0, 0.05, 1e-3)])
+def test_layer_integrals_match_quadrature(R, a, w0):
+    j0, j2 = _layer_integrals(R, a, w0)
+    q0 = quad(lambda r: r / (w0 + gap(r, R)), 0, a, epsabs=0, epsrel=1e-13, limit=200)[0]
+    q2 = quad(lambda r: r**3 / (w0 + gap(r, R)), 0, a, epsabs=0, epsrel=1e-13, limit=200)[0]
+    assert j0 == pytest.approx(q0, rel=1e-9)
+    assert j2 == pytest.approx(q2, rel=1e-9)
+
+
+def test_rigid_cement_gives_the_welded_punch_pair():
+    """Cement 1e9 times stiffer than the grains: the bond is a welded disc of radius a between
+    two half-spaces in series (Johnson 1985): a E*, 4 G a/(2 - nu), (2/3) E* a^3, (8/3) G a^3."""
+    R, alpha = 2e-4, 0.4
+    a = alpha * R
+    s = bond_stiffness(R, alpha, 0.0, K_GRAIN, G_GRAIN, 1e9 * K_GRAIN, 1e9 * G_GRAIN)
+    assert s.normal == pytest.approx(a * E_STAR, rel=1e-6)
+    assert s.shear == pytest.approx(4 * G_GRAIN * a / (2 - NU_GRAIN), rel=1e-6)
+    assert s.bending == pytest.approx(2 / 3 * E_STAR * a**3, rel=1e-6)
+    assert s.twisting == pytest.approx(8 / 3 * G_GRAIN * a**3, rel=1e-6)
+
+
+def test_rigid_grains_give_the_thin_layer_integral():
+    """Grains 1e9 times stiffer than the cement: the cement layer alone,
+    k_n = 2 pi M_c int r dr / t(r), k_s with G_c, bending pi M_c int r^3/t, twisting 2 pi G_c."""
+    R, alpha, eps, Kc, Gc = 1e-4, 0.5, 0.02, 6.8e9, 2.0e9
+    Mc = Kc + 4 * Gc / 3
+    s = bond_stiffness(R, alpha, eps, 1e9 * K_GRAIN, 1e9 * G_GRAIN, Kc, Gc)
+
+    def t(r):
+        return eps * R + gap(r, R)
+    i0 = quad(lambda r: r / t(r), 0, alpha * R, epsabs=0, epsrel=1e-12)[0]
+    i2 = quad(lambda r: r**3 / t(r), 0, alpha * R, epsabs=0, epsrel=1e-12)[0]
+    assert s.normal == pytest.approx(2 * np.pi * Mc * i0, rel=1e-6)
+    assert s.shear == pytest.approx(2 * np.pi * Gc * i0, rel=1e-6)
+    assert s.bending == pytest.approx(np.pi * Mc * i2, rel=1e-6)
+    assert s.twisting == pytest.approx(2 * np.pi * Gc * i2, rel=1e-6)
+
+
+def test_bond_stiffness_monotone_in_radius_thickness_and_cement():
+    R = 1e-4
+    alphas = np.linspace(0.1, 0.6, 6)
+    by_a = bond_stiffness(R, alphas, 0.02, K_GRAIN, G_GRAIN, 15e9, 8e9)
+    by_h = bond_stiffness(R, 0.5, np.linspace(0.0, 0.1, 6), K_GRAIN, G_GRAIN, 15e9, 8e9)
+    soft = bond_stiffness(R, 0.5, 0.02, K_GRAIN, G_GRAIN, 6.8e9, 2.0e9)
+    hard = bond_stiffness(R, 0.5, 0.02, K_GRAIN, G_GRAIN, 15e9, 8e9)
+    for field in range(4):
+        assert np.all(np.diff(by_a[field]) > 0)
+        assert np.all(np.diff(by_h[field]) < 0)
+        assert hard[field] > soft[field] > 0
+        assert np.all(np.isfinite(by_h[field]))          # h = 0 included: finite
+
+
+def test_cement_volume_matches_quadrature():
+    R, alpha, eps = 1.5e-4, 0.45, 0.03
+    ref = quad(lambda r: 2 * np.pi * r * (eps * R + gap(r, R)), 0, alpha * R, epsabs=0,
+               epsrel=1e-12)[0]
+    assert bond_cement_volume(R, alpha, eps) == pytest.approx(ref, rel=1e-9)
+
+
+def test_bad_inputs(expect_value_error):
+    expect_value_error(lambda: bond_stiffness(1e-4, 0.0, 0.0, K_GRAIN, G_GRAIN, 1e9, 1e9),
+                       "radius_ratio")
+    expect_value_error(lambda: bond_stiffness(1e-4, 0.3, -0.1, K_GRAIN, G_GRAIN, 1e9, 1e9),
+                       "thickness_ratio")
+    expect_value_error(lambda: bond_stiffness(1e-4, 0.3, 0.0, K_GRAIN, G_GRAIN, -1e9, 1e9),
+                       "cement_bulk")
+    pack, _ = lattice_pack()
+    expect_value_error(lambda: bonded_system(pack, 1.5, cement_bulk=1e9, cement_shear=1e9),
+                       "radius_ratio")
+    expect_value_error(lambda: bonded_system(pack, 0.3, 0.6, cement_bulk=1e9, cement_shear=1e9),
+                       "thickness_ratio")
+
+
+# --- the linearised sample -----------------------------------------------------------------
+
+def lattice_pack(n=(3, 3, 8), R=1e-4, jitter=0.0, seed=0):
+    """Grains on a simple cubic lattice of spacing 2R(1 + 1e-9) (touching, without the Hertz
+    overlap that round-off would leave), periodic in x, y; with ``jitter`` the centres are
+    moved at random by up to that fraction of R."""
+    nx, ny, nz = n
+    d = 2 * R * (1 + 1e-9)
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    x = np.stack([(i.ravel() + 0.5) * d, (j.ravel() + 0.5) * d, R + k.ravel() * d], -1)
+    x += jitter * R * np.random.default_rng(seed).uniform(-1, 1, x.shape)
+    z = np.zeros_like(x)
+    return Pack(x, z, z.copy(), np.full(len(x), R), Box(nx * d, ny * d, 0.0, nz * d + R),
+                QUARTZ, np.zeros((0, 2), np.int32), np.zeros((0, 3))), d
+
+
+def test_simple_cubic_lattice_moduli_closed_form():
+    """Bonded simple cubic lattice of spacing d: K = k_n/(3d) (C11 = k_n/d, C12 = 0) and, with
+    free rotations that stay zero by symmetry, G = k_s/(2d); the affine moduli are the same.
+    ``slab=0.5`` puts the core planes halfway between grain layers, so the core holds whole
+    layers of horizontal bonds."""
+    pack, d = lattice_pack()
+    system = bonded_system(pack, 0.4, 0.0, cement_bulk=15e9, cement_shear=8e9, slab=0.5)
+    assert np.ptp(system.kn) == 0 and system.metadata["coordination_number"] == 6.0
+    m = static_moduli(system)
+    assert m.bulk == pytest.approx(system.kn[0] / (3 * d), rel=1e-9)
+    assert m.shear == pytest.approx(system.ks[0] / (2 * d), rel=1e-9)
+    assert m.bulk_affine == pytest.approx(m.bulk, rel=1e-9)
+    assert m.shear_affine == pytest.approx(m.shear, rel=1e-9)
+
+
+@pytest.fixture(scope="module")
+def jittered():
+    pack, d = lattice_pack(n=(4, 4, 8), jitter=0.08, seed=3)
+    return bonded_system(pack, 0.35, 0.0, cement_bulk=15e9, cement_shear=8e9,
+                         contact_gap=0.5 * d)
+
+
+def test_rigid_motions_cost_nothing(jittered, rng):
+    """Per link: a rigid translation and a rigid rotation (u = w x x, theta = w) give zero
+    relative displacement and rotation; K is symmetric and positive semidefinite."""
+    B, _ = jittered._b_matrices()
+    w = rng.normal(size=3)
+    t = rng.normal(size=3)
+    m = B.shape[0]
+    q = np.zeros((m, 12))
+    q[:, 0:3] = t
+    q[:, 3:6] = w
+    q[:, 6:9] = t + np.cross(w, jittered.branch)
+    q[:, 9:12] = w
+    assert np.abs(np.einsum("mai,mi->ma", B, q)).max() < 1e-12 * np.abs(q).max()
+    K = jittered.stiffness_matrix()
+    assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+    v = rng.normal(size=K.shape[0])
+    assert v @ (K @ v) > 0
+
+
+def test_relaxed_moduli_do_not_exceed_affine(jittered):
+    """Relaxation lowers the energy; on a lattice with some disorder the relaxed moduli lie
+    below the affine ones but stay close (the lattice is nearly affine)."""
+    m = static_moduli(jittered)
+    assert 0 < m.bulk <= m.bulk_affine * (1 + 1e-9)
+    assert 0 < m.shear <= m.shear_affine * (1 + 1e-9)
+    assert m.bulk > 0.5 * m.bulk_affine
+
+
+def test_distant_bonding_is_softer_and_grid_dataset():
+    """A gap h bridged by cement softens the sample (Xu 2023, Fig. 6); the grid Dataset holds
+    K, G over a/R and h/R in GPa with porosity rising with h (the grains shrink by h/2)."""
+    pack, _ = lattice_pack(n=(3, 3, 6))
+    ds = bonded_moduli(pack, [0.3, 0.5], [0.0, 0.02, 0.05], cement_bulk=6.8e9,
+                       cement_shear=2.0e9)
+    assert ds.K.dims == ("radius_ratio", "thickness_ratio") and ds.K.attrs["units"] == "GPa"
+    assert np.all(np.diff(ds.K.values, axis=1) < 0) and np.all(np.diff(ds.G.values, axis=1) < 0)
+    assert np.all(np.diff(ds.K.values, axis=0) > 0)
+    assert np.all(np.diff(ds.porosity.values, axis=1) > 0)
+    assert float(ds.coordination_number) == 6.0
