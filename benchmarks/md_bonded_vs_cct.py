@@ -8,8 +8,11 @@ and shear moduli are computed by sparse solves:
 * contact bonding (h = 0), a/R from 0.30 to 0.55, cement (K, G) = (15, 8) GPa (Xu's Fig. 4),
   against CCT (``rockcem.granular.contact_cement``, scheme 1, ``stiffness="fit"``, the handbook
   polynomials, and ``"integral"``, the solved contact problem);
-* distant bonding, a/R from 0.30 to 0.55 and h/R from 0.01 to 0.05, cement (6.8, 2.0) GPa
-  (Figs. 5-6), against MCCT (the same function with ``thickness = h/R``).
+* distant bonding, a/R from 0.30 to 0.55 and contact thickness 0.01 to 0.05, cement (6.8, 2.0)
+  GPa (Figs. 5-6), against MCCT (the same function with ``thickness`` = that value). Xu's axis
+  "h/R" is read as MCCT's :math:`\varepsilon`, which in eqs. 1 and 6 of Han & Guo (and in
+  :func:`rockcem.granular.contact_cement`) is half the axial gap over R; the bonds of
+  :mod:`md.bonded` take the same :math:`\varepsilon` (axial gap :math:`2\varepsilon R`).
 
 The theories are evaluated for the sample's own coordination number and uncemented porosity
 (:math:`\\phi_c`), with the cement porosity from the bond radius by inverting eq. A-9
@@ -151,7 +154,7 @@ def main(argv=None):
     ds = xr.Dataset.from_dataframe(frame)
     ds.attrs.update(attrs)
     write_netcdf(ds, result_path(NAME, "nc"))
-    cols = {"radius_ratio": ("a/R", ".2f"), "thickness_ratio": ("h/R", ".2f"),
+    cols = {"radius_ratio": ("a/R", ".2f"), "thickness_ratio": ("eps", ".2f"),
             "K_md": ("K MD", ".3f"), "K_cct_fit": ("K CCT fit", ".3f"),
             "K_cct_integral": ("K CCT integral", ".3f"), "K_ratio_integral": ("MD/int", ".2f"),
             "G_md": ("G MD", ".3f"), "G_cct_fit": ("G CCT fit", ".3f"),
@@ -186,7 +189,7 @@ def main(argv=None):
     ax = axes[1]
     for k, h in enumerate(sorted(d.thickness_ratio.unique())):
         s = d[d.thickness_ratio == h]
-        ax.plot(s.radius_ratio, s.K_md, "o-", color=f"C{k}", label=f"K MD, h/R {h:.2f}")
+        ax.plot(s.radius_ratio, s.K_md, "o-", color=f"C{k}", label=f"K MD, eps {h:.2f}")
         ax.plot(s.radius_ratio, s.K_cct_integral, "--", color=f"C{k}")
     ax.set(xlabel="a/R", ylabel="K (GPa)", title="distant bonding (Fig. 5): MD o-, MCCT --")
     ax.legend(fontsize=7)
@@ -198,8 +201,8 @@ def main(argv=None):
         ax.plot(s.thickness_ratio, s[f"{q}_cct_fit"], "--", color=col, label=f"{q} MCCT (fit)")
         ax.plot(s.thickness_ratio, s[f"{q}_cct_integral"], "-.", color=col,
                 label=f"{q} MCCT (integral)")
-    ax.set(xlabel="h/R", ylabel="modulus (GPa)", title=f"distant bonding, a/R = {a_fix:g} "
-           "(Fig. 6)")
+    ax.set(xlabel="epsilon = h/(2R)", ylabel="modulus (GPa)",
+           title=f"distant bonding, a/R = {a_fix:g} (Fig. 6)")
     ax.legend(fontsize=7)
     fig.suptitle(f"md.bonded, {pack.n_grains} grains, n = {frame.coordination_number.iloc[0]:.2f}"
                  f", phi_c = {frame.porosity_uncemented.iloc[0]:.3f}")

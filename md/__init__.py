@@ -7,10 +7,12 @@ shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`), 
 (:func:`md.compact`), packs saved to netCDF between stages (:mod:`md.state`), the cement lattice
 with contact, coating and pore-body growth (:mod:`md.cement`) and the linearised acoustic stage
 with the pulse test and static moduli (:mod:`md.acoustic`), and bonded-contact cement with
-static bulk and shear moduli (:mod:`md.bonded`).
+static bulk and shear moduli (:mod:`md.bonded`); :mod:`md.calibrate` fits the effective-medium
+models of :mod:`rockcem` to MD results (the one md module that uses rockcem).
 """
 
 from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
+from . import calibrate
 from .bonded import BondedModuli, BondedSystem, bond_stiffness, bonded_moduli, bonded_system
 from .bonded import static_moduli as bonded_static_moduli
 from .cement import (HARD_CEMENT, SOFT_CEMENT, CementLattice, CementMaterial, cement_lattice,
@@ -19,6 +21,7 @@ from .contact import QUARTZ, GrainMaterial
 from .neighbors import build_neighbors, needs_rebuild
 from .protocols import compact, coordination_number, porosity, prepare_pack, settle
 from .space import Box
+from .calibrate import write_calibration
 from .state import Pack, load_pack, save_pack
 
 __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_rebuild", "settle",
@@ -26,4 +29,4 @@ __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_r
            "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
            "grow_cement", "AcousticSystem", "acoustic_system", "cement_block", "pulse_test",
            "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness", "bonded_system",
-           "bonded_static_moduli", "bonded_moduli"]
+           "bonded_static_moduli", "bonded_moduli", "calibrate", "write_calibration"]

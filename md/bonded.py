@@ -13,7 +13,11 @@ constants PFC calibrates). Each bond mode — normal, shear, bending, twisting �
 local springs over the disc :math:`r \le a`: at radius :math:`r` a cement column of height
 :math:`t(r) = h + 2\left(\bar R - \sqrt{\bar R^2 - r^2}\right)` (the gap between two spheres
 of radius :math:`\bar R` whose surfaces are :math:`h` apart on the axis) in series with the two
-grains. The cement column responds as a thin layer, in uniaxial strain: stiffness per area
+grains. The thickness is given as :math:`\varepsilon = h/(2\bar R)`, half the axial gap over
+the radius: the :math:`\varepsilon` of Dvorkin's layer :math:`\varepsilon + t^2/2` and of
+Han & Guo's eqs. 1 and 6 (and of :func:`rockcem.granular.contact_cement`), so that MD and MCCT
+are compared at the same :math:`\varepsilon`. The cement column responds as a thin layer, in
+uniaxial strain: stiffness per area
 :math:`M_c/t` normal and :math:`G_c/t` in shear (Dvorkin et al. 1994's layer, the one CCT
 integrates; :math:`M_c = K_c + \tfrac43 G_c`). Each grain is an elastic half-space loaded over
 the disc, taken as a bed of uniform stiffness per area chosen so that a disc of rigid cement
@@ -137,8 +141,8 @@ def bond_stiffness(radius, radius_ratio, thickness_ratio, grain_bulk, grain_shea
     radius_ratio : array_like
         :math:`\alpha = a/\bar R`, the bond radius over the grain radius, in (0, 1].
     thickness_ratio : array_like
-        :math:`\varepsilon = h/\bar R`, the cement thickness on the axis, ``>= 0`` (0: contact
-        bonding).
+        :math:`\varepsilon = h/(2\bar R)`, half the cement thickness on the axis over the
+        radius, ``>= 0`` (0: contact bonding).
     grain_bulk, grain_shear, cement_bulk, cement_shear : float
         Moduli, Pa, ``> 0``.
 
@@ -155,12 +159,12 @@ def bond_stiffness(radius, radius_ratio, thickness_ratio, grain_bulk, grain_shea
     if not np.all((alpha > 0) & (alpha <= 1)):
         raise ValueError("radius_ratio (a/R) must lie in (0, 1]")
     if not np.all(np.isfinite(eps) & (eps >= 0)):
-        raise ValueError("thickness_ratio (h/R) must be finite and >= 0")
+        raise ValueError("thickness_ratio (h/2R) must be finite and >= 0")
     Kg, Gg, nug = _check_moduli("grain", grain_bulk, grain_shear)
     Kc, Gc, _ = _check_moduli("cement", cement_bulk, cement_shear)
     R, alpha, eps = np.broadcast_arrays(R, alpha, eps)
     a = alpha * R
-    h = eps * R
+    h = 2.0 * eps * R                                     # the axial gap
     Mc = Kc + 4.0 * Gc / 3.0
     Eg_star = 2.0 * Gg * (1.0 + nug) / (1.0 - nug**2)     # E/(1 - nu^2) of the grain
     area, polar = np.pi * a * a, 0.5 * np.pi * a**4
@@ -181,12 +185,12 @@ def bond_stiffness(radius, radius_ratio, thickness_ratio, grain_bulk, grain_shea
 
 def bond_cement_volume(radius, radius_ratio, thickness_ratio):
     r"""Volume of the cement of one bond: the disc :math:`r \le a` between two spheres of
-    radius :math:`\bar R` whose surfaces are :math:`h` apart,
+    radius :math:`\bar R` whose surfaces are :math:`h = 2\varepsilon\bar R` apart,
     :math:`\pi a^2 h + 2[\pi \bar R a^2 - \tfrac{2\pi}{3}(\bar R^3 - (\bar R^2 - a^2)^{3/2})]`,
     m³."""
     R = np.asarray(radius, dtype=float)
     a = np.asarray(radius_ratio, dtype=float) * R
-    h = np.asarray(thickness_ratio, dtype=float) * R
+    h = 2.0 * np.asarray(thickness_ratio, dtype=float) * R
     s3 = np.maximum(R * R - a * a, 0.0) ** 1.5
     cap = np.pi * R * a * a - 2.0 * np.pi / 3.0 * (R**3 - s3)
     return np.pi * a * a * h + 2.0 * cap
@@ -202,7 +206,7 @@ class BondedSystem:
     positions : ndarray, shape (n, 3)
         Grain centres, m (x, y wrapped into the box).
     radii : ndarray, shape (n,)
-        m (reduced by :math:`h/2` for distant bonding).
+        m (reduced by the factor :math:`1 - \varepsilon` for distant bonding).
     box : Box
     pair_i, pair_j : ndarray of int64
         Grains of every link (bonds, then bare Hertz contacts).
@@ -320,12 +324,12 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     r"""Bond the touching grains of a (confined) pack with cement bonds.
 
     Every pair of grains whose surfaces are closer than ``contact_gap`` (default
-    :math:`10^{-3}\bar R`) gets a bond of radius :math:`a = \alpha\bar R` and thickness
-    :math:`h = \varepsilon\bar R` (:func:`bond_stiffness`, :math:`\bar R` the pair's harmonic
+    :math:`10^{-3}\bar R`) gets a bond of radius :math:`a = \alpha\bar R` and axial thickness
+    :math:`h = 2\varepsilon\bar R` (:func:`bond_stiffness`, :math:`\bar R` the pair's harmonic
     mean radius). Contact bonding (:math:`\varepsilon = 0`): the overlapping pairs keep their
     linearised Hertz–Mindlin contact in parallel. Distant bonding (:math:`\varepsilon > 0`):
-    the grains are shrunk by :math:`h/2` about their centres, so a bonded pair is :math:`h`
-    apart and bare contacts vanish (Xu 2023, Fig. 3b).
+    every grain radius is reduced by the factor :math:`1 - \varepsilon` about its centre, so a
+    bonded pair is about :math:`h` apart and bare contacts vanish (Xu 2023, Fig. 3b).
 
     Parameters
     ----------
@@ -335,7 +339,7 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     radius_ratio : float
         :math:`a/R`, in (0, 1].
     thickness_ratio : float
-        :math:`h/R`, in [0, 0.5).
+        :math:`\varepsilon = h/(2R)`, in [0, 0.5).
     cement_bulk, cement_shear : float, keyword-only
         Cement moduli, Pa.
     contact_gap : float, optional
@@ -354,7 +358,7 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     if not 0.0 < alpha <= 1.0:
         raise ValueError(f"radius_ratio (a/R) must lie in (0, 1]; got {radius_ratio}")
     if not 0.0 <= eps < 0.5:
-        raise ValueError(f"thickness_ratio (h/R) must lie in [0, 0.5); got {thickness_ratio}")
+        raise ValueError(f"thickness_ratio (h/2R) must lie in [0, 0.5); got {thickness_ratio}")
     mat: GrainMaterial = pack.material
     r0 = pack.radii
     gap = 1e-3 * float(r0.mean()) if contact_gap is None else float(contact_gap)
@@ -378,7 +382,7 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
         a_H = np.sqrt(np.where(touch, ri * rj / (ri + rj) * np.maximum(xi, 0.0), 0.0))
         kn = kn + 2.0 * mat.E_f * a_H
         ks = ks + 8.0 * mat.G_f * a_H
-    radii = r0 * (1.0 - 0.5 * eps)                       # bonded pairs end up ~h apart
+    radii = r0 * (1.0 - eps)                             # bonded pairs end up ~h apart
     x = pack.positions.copy()
     x[:, 0] %= pack.box.lx
     x[:, 1] %= pack.box.ly
@@ -548,7 +552,7 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
     ----------
     pack : Pack
     radius_ratios, thickness_ratios : sequence of float
-        :math:`a/R` and :math:`h/R` (see :func:`bonded_system`).
+        :math:`a/R` and :math:`\varepsilon = h/(2R)` (see :func:`bonded_system`).
     cement_bulk, cement_shear : float, keyword-only
         Pa.
     contact_gap, slab
@@ -562,7 +566,8 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
         Over ``radius_ratio`` and ``thickness_ratio``: ``K``, ``G``, ``K_affine``,
         ``G_affine`` (GPa), ``G_xz``, ``G_yz``, ``G_xy`` (GPa), ``porosity``,
         ``cement_fraction``; scalars ``porosity_uncemented`` and ``coordination_number``;
-        grain and cement moduli (GPa) and the mean grain radius (m) in attrs.
+        grain and cement moduli ``grain_K``, ``grain_G``, ``cement_K``, ``cement_G`` (GPa, as
+        :func:`md.calibrate.calibrate` reads them) and the mean grain radius (m) in attrs.
     """
     import xarray as xr
     from tqdm.auto import tqdm
@@ -602,13 +607,11 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
         {k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()},
         coords={"radius_ratio": ("radius_ratio", a_list, {"long_name": "bond radius a/R"}),
                 "thickness_ratio": ("thickness_ratio", h_list,
-                                    {"long_name": "cement thickness h/R"})})
+                                    {"long_name": "contact thickness epsilon = h/(2R)"})})
     ds["porosity_uncemented"] = ((), meta["porosity_uncemented"], {"units": "1"})
     ds["coordination_number"] = ((), meta["coordination_number"], {"units": "1"})
-    ds.attrs.update(grain_bulk_GPa=meta["grain_bulk"] / 1e9,
-                    grain_shear_GPa=meta["grain_shear"] / 1e9,
-                    cement_bulk_GPa=float(cement_bulk) / 1e9,
-                    cement_shear_GPa=float(cement_shear) / 1e9,
+    ds.attrs.update(grain_K=meta["grain_bulk"] / 1e9, grain_G=meta["grain_shear"] / 1e9,
+                    cement_K=float(cement_bulk) / 1e9, cement_G=float(cement_shear) / 1e9,
                     mean_radius_m=meta["mean_radius"], n_grains=int(pack.n_grains),
                     references="Xu 2023, Sects. 2.2-2.3, Figs. 4-6; md.bonded docstring")
     return ds

@@ -3,14 +3,26 @@
 The fitting routine is model-agnostic: it takes a function that predicts velocities from named
 parameters, the measurements, and the free parameters with their starting values and bounds. It
 returns the fitted values, their standard errors (from the Jacobian at the solution) and the
-misfit. :func:`fit_contact_cement` applies it to the contact-cement family (CCT/MCCT), e.g. to
-the artificial sandstones of Table 1 of [Xu2023]_.
+misfit. Residuals are relative (``predicted / observed - 1``) unless measurement errors are
+given, in which case they are weighted, ``(predicted - observed) / error``.
+:func:`fit_contact_cement` applies it to the contact-cement family (CCT/MCCT), e.g. to the
+artificial sandstones of Table 1 of [Xu2023]_; :mod:`md.calibrate` applies it to MD results.
+
+Calibration files carry a fitted parameter set to scenes: :func:`write_calibration` writes one
+(TOML, format ``rockcem-calibration/1``, described in ``datasets/calibrations/README.md``),
+:func:`load_calibration` reads and checks it, and a scene names it in
+``[models.patchy_cement] calibration = "<file or shipped name>"``.
 """
 
 from __future__ import annotations
 
+import datetime
+import hashlib
+import json
+import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -20,12 +32,18 @@ from .elastic import velocities
 from .granular import contact_cement
 from .materials import Mineral
 
-__all__ = ["FitResult", "fit_parameters", "fit_contact_cement"]
+__all__ = ["FitResult", "fit_parameters", "fit_contact_cement", "CALIBRATION_FORMAT",
+           "CALIBRATION_MODELS", "write_calibration", "load_calibration", "shipped_calibrations"]
+
+#: Version tag of the calibration file format.
+CALIBRATION_FORMAT = "rockcem-calibration/1"
+#: Effective-medium models a calibration file may name (those :mod:`md.calibrate` fits).
+CALIBRATION_MODELS = ("contact_cement", "patchy_cement")
 
 
 @dataclass(frozen=True)
 class FitResult:
-    """Outcome of a least-squares calibration.
+    r"""Outcome of a least-squares calibration.
 
     Attributes
     ----------
@@ -33,7 +51,8 @@ class FitResult:
         Fitted value of each free parameter.
     stderr : dict
         One-standard-deviation uncertainty of each, from :math:`s^2 (J^T J)^{-1}` with
-        :math:`s^2` the residual variance (``nan``-free: ``inf`` when not identifiable).
+        :math:`s^2` the residual variance (1 with ``absolute_errors``; ``nan``-free: ``inf``
+        when not identifiable).
     misfit : dict
         Root-mean-square relative misfit of each observed quantity at the solution.
     misfit_initial : dict
@@ -42,6 +61,17 @@ class FitResult:
         Predicted values of each observed quantity at the solution.
     success : bool
         Whether the optimiser reports convergence.
+    chi2 : float
+        Sum of the squared residuals at the solution: relative residuals, or weighted ones
+        (:math:`\chi^2`) when errors were given.
+    dof : int
+        Degrees of freedom, number of residuals minus number of free parameters (at least 1).
+    covariance : ndarray, shape (p, p)
+        Covariance of the free parameters in the order of ``values`` (``inf`` on the diagonal
+        when not identifiable).
+    at_bound : dict
+        Whether each fitted value lies on (within 1e-9 of the range of) a bound, where its
+        standard error understates the uncertainty.
     """
 
     values: dict
@@ -50,6 +80,10 @@ class FitResult:
     misfit_initial: dict
     predicted: dict = field(repr=False)
     success: bool = True
+    chi2: float = 0.0
+    dof: int = 1
+    covariance: np.ndarray | None = field(default=None, repr=False)
+    at_bound: dict = field(default_factory=dict)
 
 
 def _rms(pred, obs):
@@ -58,8 +92,19 @@ def _rms(pred, obs):
 
 def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
                    observed: Mapping[str, np.ndarray],
-                   parameters: Mapping[str, tuple[float, float, float]]) -> FitResult:
-    """Fit free parameters by least squares on relative residuals.
+                   parameters: Mapping[str, tuple[float, float, float]], *,
+                   errors: Mapping[str, np.ndarray] | None = None,
+                   absolute_errors: bool = False) -> FitResult:
+    r"""Fit free parameters by least squares, on relative or error-weighted residuals.
+
+    Minimises :math:`\sum_i r_i^2` with :math:`r_i = p_i/o_i - 1` (relative residuals, the
+    default) or :math:`r_i = (p_i - o_i)/\sigma_i` (weighted by the measurement errors
+    :math:`\sigma_i`), within the bounds of each parameter (``scipy.optimize.least_squares``,
+    trust-region reflective). The covariance of the parameters is
+    :math:`s^2 (J^T J)^{-1}` with :math:`J` the Jacobian of the residuals at the solution and
+    :math:`s^2 = \chi^2/(N - p)` the residual variance, as ``scipy.optimize.curve_fit`` with
+    ``absolute_sigma=False``; with ``absolute_errors=True`` the errors are taken as true
+    standard deviations and :math:`s^2 = 1`.
 
     Parameters
     ----------
@@ -71,16 +116,34 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
     parameters : mapping
         ``{name: (initial, lower, upper)}`` for each free parameter, with
         ``lower <= initial <= upper``.
+    errors : mapping, optional, keyword-only
+        One-standard-deviation errors of the measurements, ``{name: array}`` for every key of
+        ``observed``, in its units and broadcastable to its shape, each ``> 0``. Default: none
+        (relative residuals, every point weighted by ``1/observed``).
+    absolute_errors : bool, optional, keyword-only
+        Take ``errors`` as absolute standard deviations (covariance not rescaled by the
+        residual variance). Needs ``errors``.
 
     Returns
     -------
     FitResult
+        ``misfit`` is the root-mean-square relative misfit either way.
     """
     obs = {k: check_positive(k, as_array(k, v)) for k, v in observed.items()}
     if not obs:
         raise ValueError("observed must name at least one measured quantity")
     if not parameters:
         raise ValueError("parameters must name at least one free parameter")
+    if errors is not None:
+        missing = sorted(set(obs) - set(errors))
+        extra = sorted(set(errors) - set(obs))
+        if missing or extra:
+            raise ValueError(f"errors must give one array per observed quantity "
+                             f"{sorted(obs)}; missing {missing}, not observed {extra}")
+        sigma = {k: broadcast(**{k: obs[k], f"errors[{k!r}]": check_positive(
+            f"errors[{k!r}]", as_array(f"errors[{k!r}]", errors[k]))})[1] for k in obs}
+    elif absolute_errors:
+        raise ValueError("absolute_errors=True needs errors")
     names = list(parameters)
     x0, lo, hi = (np.array([float(parameters[n][i]) for n in names]) for i in range(3))
     if np.any(lo > x0) or np.any(x0 > hi) or np.any(lo >= hi):
@@ -92,19 +155,26 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
         missing = set(obs) - set(pred)
         if missing:
             raise ValueError(f"predict returned no {sorted(missing)}")
-        return np.concatenate([np.ravel(np.asarray(pred[k]) / obs[k] - 1.0) for k in obs])
+        if errors is None:
+            return np.concatenate([np.ravel(np.asarray(pred[k]) / obs[k] - 1.0) for k in obs])
+        return np.concatenate([np.ravel((np.asarray(pred[k]) - obs[k]) / sigma[k])
+                               for k in obs])
 
     initial = predict(**dict(zip(names, x0)))
     sol = least_squares(residuals, x0, bounds=(lo, hi), x_scale="jac")
     pred = predict(**dict(zip(names, sol.x)))
     dof = max(sol.fun.size - len(names), 1)
-    s2 = float(np.sum(sol.fun**2)) / dof
+    chi2 = float(np.sum(sol.fun**2))
+    s2 = 1.0 if absolute_errors else chi2 / dof
     JtJ = sol.jac.T @ sol.jac
     try:
         cov = np.linalg.inv(JtJ) * s2
         err = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     except np.linalg.LinAlgError:
+        cov = np.diag(np.full(len(names), np.inf))
         err = np.full(len(names), np.inf)
+    tol = 1e-9 * (hi - lo)
+    at_bound = (sol.x - lo <= tol) | (hi - sol.x <= tol)
     return FitResult(
         values=dict(zip(names, map(float, sol.x))),
         stderr=dict(zip(names, map(float, err))),
@@ -112,6 +182,10 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
         misfit_initial=_rms(initial, obs),
         predicted={k: np.asarray(pred[k]) for k in obs},
         success=bool(sol.success),
+        chi2=chi2,
+        dof=int(dof),
+        covariance=cov,
+        at_bound=dict(zip(names, map(bool, at_bound))),
     )
 
 
@@ -163,3 +237,162 @@ def fit_contact_cement(grain: Mineral, cement: Mineral, porosity, density, vp, v
         return {"vp": v.vp, "vs": v.vs}
 
     return fit_parameters(predict, {"vp": vp, "vs": vs}, free)
+
+
+# ----------------------------------------------------------------------------- calibration files
+def _toml_value(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        return repr(v) if np.isfinite(v) else ("inf" if v > 0 else "-inf" if v < 0 else "nan")
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return json.dumps(str(v), ensure_ascii=False)
+
+
+def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit=None,
+                      description="", data="", weights="", references="", record=None) -> Path:
+    """Write a calibration file (TOML, format ``rockcem-calibration/1``) atomically.
+
+    The file has top-level keys ``format``, ``name``, ``description``, ``model``, ``data``,
+    ``weights``, ``created``, ``software``, ``references`` and the tables ``[parameters]`` (the
+    values a scene applies: model parameters and the cement-radius ``scheme``),
+    ``[uncertainty]`` (one-sigma errors of the fitted ones), ``[misfit]`` (root-mean-square
+    relative misfit per observed quantity) and ``[fit]`` (what the fit was made on, for the
+    record only). :func:`load_calibration` reads it back.
+
+    Parameters
+    ----------
+    path : str or Path
+        File to write.
+    name, model : str
+        Name of the calibration; fitted model, one of :data:`CALIBRATION_MODELS`.
+    parameters : mapping
+        ``{parameter: value}``, numbers (``scheme`` an integer 1 or 2).
+    uncertainty, misfit : mapping, optional
+        ``{parameter: standard error}`` and ``{quantity: misfit}``.
+    description, data, weights, references : str
+        Free text: what the calibration is for, the data it was fitted to, the residual weights
+        and the sources.
+    record : mapping, optional
+        Scalars, strings or lists of them describing the fit (the ``[fit]`` table).
+
+    Returns
+    -------
+    Path
+    """
+    from . import __version__
+    from ._atomic import atomic_write
+
+    head = {"format": CALIBRATION_FORMAT, "name": name, "description": description,
+            "model": model, "data": data, "weights": weights,
+            "created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+            "software": f"rockcem {__version__}", "references": references}
+    lines = [f"# rockcem calibration file ({CALIBRATION_FORMAT}). Scenes apply [parameters]; the "
+             "other tables record the fit.", ""]
+    lines += [f"{k} = {_toml_value(v)}" for k, v in head.items()]
+    for table, values in (("parameters", parameters), ("uncertainty", uncertainty or {}),
+                          ("misfit", misfit or {}), ("fit", record or {})):
+        lines += ["", f"[{table}]"] + [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+    text = "\n".join(lines) + "\n"
+    _check_calibration(tomllib.loads(text), str(path))
+
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+    return atomic_write(path, write)
+
+
+def shipped_calibrations() -> dict[str, Path]:
+    """The calibration files shipped in ``datasets/calibrations/``: ``{name: path}``."""
+    from ._data import data_path
+
+    try:
+        folder = data_path("calibrations")
+    except FileNotFoundError:
+        return {}
+    return {p.stem: p for p in sorted(folder.glob("*.toml"))}
+
+
+def _check_calibration(raw, where):
+    def bad(msg):
+        return ValueError(f"calibration file {where}: {msg}")
+
+    if raw.get("format") != CALIBRATION_FORMAT:
+        raise bad(f"format must be {CALIBRATION_FORMAT!r}; got {raw.get('format')!r}")
+    if raw.get("model") not in CALIBRATION_MODELS:
+        raise bad(f"model must be one of {', '.join(CALIBRATION_MODELS)}; got "
+                  f"{raw.get('model')!r}")
+    params = raw.get("parameters")
+    if not isinstance(params, dict) or not params:
+        raise bad("needs a non-empty table [parameters]")
+    for k, v in params.items():
+        number = isinstance(v, (int, float)) and not isinstance(v, bool)
+        if not number or not np.isfinite(v):
+            raise bad(f"parameter {k} must be a finite number; got {v!r}")
+    if "scheme" in params and (not isinstance(params["scheme"], int)
+                               or params["scheme"] not in (1, 2)):
+        raise bad(f"parameter scheme must be the integer 1 or 2; got {params['scheme']!r}")
+    for table in ("uncertainty", "misfit"):
+        values = raw.get(table, {})
+        if not isinstance(values, dict) or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) and v >= 0
+                for v in values.values()):
+            raise bad(f"[{table}] must map names to numbers >= 0")
+    unknown = sorted(set(raw.get("uncertainty", {})) - set(params))
+    if unknown:
+        raise bad(f"[uncertainty] names {unknown}, which are not in [parameters]")
+
+
+def load_calibration(source, *, base_dir=None) -> dict:
+    """Read and check a calibration file written by :func:`write_calibration`.
+
+    Parameters
+    ----------
+    source : str or Path
+        A file path — absolute, or relative to ``base_dir`` (the folder of the scene that
+        names it) and then to the working directory — or the name of a shipped calibration
+        (:func:`shipped_calibrations`).
+    base_dir : str or Path, optional, keyword-only
+        Folder relative paths are looked up in first.
+
+    Returns
+    -------
+    dict
+        ``name``, ``model``, ``description``, ``data``, ``parameters``, ``uncertainty``,
+        ``misfit`` (as in the file), ``path`` (resolved, str) and ``sha256`` (of the file).
+
+    Raises
+    ------
+    ValueError
+        If the file is missing, not TOML, or not a valid calibration file.
+    """
+    given = Path(str(source))
+    candidates = [given] if given.is_absolute() else (
+        ([Path(base_dir) / given] if base_dir is not None else []) + [given])
+    shipped = shipped_calibrations()
+    if not given.is_absolute() and not given.suffix and len(given.parts) == 1 \
+            and str(source) in shipped:
+        candidates.append(shipped[str(source)])
+    path = next((p for p in candidates if p.is_file()), None)
+    if path is None:
+        looked = ", ".join(str(p) for p in candidates)
+        names = f"; shipped calibrations: {', '.join(shipped)}" if shipped else ""
+        raise ValueError(f"calibration file {str(source)!r} not found (looked for {looked})"
+                         f"{names}")
+    data = path.read_bytes()
+    try:
+        raw = tomllib.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"calibration file {path} is not valid TOML: {exc}") from None
+    _check_calibration(raw, str(path))
+    return {"name": str(raw.get("name", path.stem)), "model": raw["model"],
+            "description": str(raw.get("description", "")), "data": str(raw.get("data", "")),
+            "parameters": dict(raw["parameters"]),
+            "uncertainty": dict(raw.get("uncertainty", {})),
+            "misfit": dict(raw.get("misfit", {})),
+            "path": str(path.resolve()), "sha256": hashlib.sha256(data).hexdigest()}

@@ -66,12 +66,12 @@ def _run_md(raw, args) -> int:
 
 
 def _run(args) -> int:
-    from .scene import read_scene_toml, run_scene, scene_from_dict, write_dataset
+    from .scene import read_scene_toml, run_scene, scene_from_dict, scene_path, write_dataset
 
     raw, text = read_scene_toml(args.scene)
     if "md" in raw:
         return _run_md(raw, args)
-    scene = scene_from_dict(raw, text=text)
+    scene = scene_from_dict(raw, text=text, base_dir=scene_path(args.scene).parent)
     out = args.output or scene.output
     ds = run_scene(scene, scheduler=args.scheduler, progress=not args.quiet)
     path = write_dataset(ds, out)

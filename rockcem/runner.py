@@ -131,7 +131,7 @@ class _Pipeline:
         from . import models
 
         minerals, fluid = self.materials
-        knobs = self.sec[f"models.{label}"]
+        knobs = {k: v for k, v in self.sec[f"models.{label}"].items() if k != "calibration"}
         with _section(f"models.{label}"):
             if label == "patchy_cement":
                 s = self.sandstone
@@ -178,6 +178,7 @@ def _global_attrs(scene):
         keys += ["DvorkinNur1996", "Avseth2016", "GangiCarlson1996"]
     params = {k: v for k, v in scene.sections.items()}
     return {
+        **_calibration_attrs(scene),
         "Conventions": "CF-1.10",
         "title": f"rockcem scene {scene.name}",
         "scene_name": scene.name,
@@ -199,6 +200,19 @@ def _global_attrs(scene):
             "illite": scene.sections["materials"]["illite"]}),
         "fluid": scene.sections["materials"]["fluid"],
     }
+
+
+def _calibration_attrs(scene):
+    """Which calibration files set model parameters: a readable line and one JSON string."""
+    if not scene.calibrations:
+        return {}
+    used = {label: {k: cal[k] for k in ("name", "model", "path", "sha256", "data",
+                                        "parameters", "uncertainty", "misfit")}
+            for label, cal in scene.calibrations.items()}
+    line = "; ".join(f"{label}: {cal['name']} ({cal['path']}, sha256 {cal['sha256'][:12]}): "
+                     + ", ".join(f"{k} = {v:.6g}" for k, v in cal["parameters"].items())
+                     for label, cal in scene.calibrations.items())
+    return {"calibration": line, "calibration_json": json.dumps(used, sort_keys=True)}
 
 
 def evaluate(scene):
@@ -265,6 +279,12 @@ def run(scene, *, scheduler=None, progress=False):
     out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
     out.attrs["scene_toml"] = scene.text
+    used = sorted({ds.attrs["calibration_json"] for _, ds in results
+                   if "calibration_json" in ds.attrs})
+    if len(used) > 1:                     # the sweep runs over calibration files
+        out.attrs["calibration"] = "varies over the sweep: " + " | ".join(
+            sorted({ds.attrs["calibration"] for _, ds in results}))
+        out.attrs["calibration_json"] = json.dumps([json.loads(u) for u in used])
     return out
 
 

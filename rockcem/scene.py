@@ -9,6 +9,14 @@ and one dimension per swept parameter). :func:`write_dataset` writes it atomical
 The schema, with every default and unit, is :data:`SCHEMA`; ``rockcem scenes`` lists the shipped
 scenes (``datasets/scenes/``). See ``datasets/scenes/carcione2022_sandstone.toml`` for a full
 example.
+
+Calibrated parameters: ``[models.patchy_cement] calibration = "<file>"`` names a calibration file
+(TOML, format ``rockcem-calibration/1``, written by :func:`md.calibrate.write_calibration` or
+:func:`rockcem.calibrate.write_calibration`; see ``datasets/calibrations/README.md``) — a path
+relative to the scene file (then to the working directory), or the name of a shipped one in
+``datasets/calibrations/``. Its ``[parameters]`` set the model's parameters; a parameter the
+model does not have, or one the scene sets as well, is an error. The Dataset records the
+calibration used in its attributes ``calibration`` and ``calibration_json``.
 """
 
 from __future__ import annotations
@@ -18,15 +26,15 @@ import difflib
 import itertools
 import json
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ._data import data_path
 
-__all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "shipped_scenes", "run_scene",
-           "write_dataset", "MODEL_OUTPUTS", "STATE_OUTPUTS"]
+__all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
+           "run_scene", "write_dataset", "MODEL_OUTPUTS", "STATE_OUTPUTS", "CALIBRATED_MODELS"]
 
 _REQUIRED = object()
 
@@ -99,8 +107,13 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "scheme": (1, "integer", "", "1: cement at contacts (eq. 16), 2: coating (eq. 18)"),
         "thickness": (0.0, "number", "1", "MCCT contact thickness"),
         "f": (1.0, "number", "1", "Hertz-Mindlin no-slip fraction"),
+        "calibration": (None, "string", "",
+                        "calibration file or shipped name whose [parameters] set the keys "
+                        "above (datasets/calibrations/README.md)"),
     },
 }
+#: Model sections that take a calibration file.
+CALIBRATED_MODELS = ("patchy_cement",)
 
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "models", "sweep"}
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement")
@@ -124,8 +137,10 @@ def _suggest(key, valid):
 @dataclass(frozen=True)
 class Scene:
     """A validated scene: ``sections`` maps each schema section to its complete parameters
-    (defaults filled in); ``sweep`` maps ``"section.key"`` to the values to sweep; ``text`` is the
-    scene as TOML."""
+    (defaults filled in, calibrated values applied); ``sweep`` maps ``"section.key"`` to the
+    values to sweep; ``text`` is the scene as TOML; ``base_dir`` the folder of the scene file
+    (relative calibration paths are looked up there); ``calibrations`` maps a model label to the
+    calibration file it uses (:func:`rockcem.calibrate.load_calibration`)."""
 
     name: str
     lithology: str
@@ -136,6 +151,8 @@ class Scene:
     sweep: dict
     text: str
     description: str = ""
+    base_dir: str | None = None
+    calibrations: dict = field(default_factory=dict)
 
     def replace(self, **params) -> Scene:
         """A copy with parameters changed, keys as ``"section.key"`` (``"path.gradient"``); the
@@ -153,7 +170,7 @@ class Scene:
         if not keep_sweep:
             raw.pop("sweep", None)
         text = None if params or not keep_sweep else self.text
-        return scene_from_dict(raw, text=text)
+        return scene_from_dict(raw, text=text, base_dir=self.base_dir)
 
     def _raw(self) -> dict:
         return tomllib.loads(self.text)
@@ -197,10 +214,12 @@ def _section(where, given, schema):
     return out
 
 
-def scene_from_dict(raw: dict, *, text: str | None = None) -> Scene:
+def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Scene:
     """Validate a scene given as a dict (the parsed TOML) and fill in the defaults.
 
-    Raises ``ValueError`` naming the offending key, with the closest valid name for a typo.
+    ``base_dir`` is the folder relative calibration paths are looked up in first (that of the
+    scene file). Raises ``ValueError`` naming the offending key, with the closest valid name for
+    a typo, or the calibration file and what is wrong with it.
     """
     if not isinstance(raw, dict):
         raise ValueError("a scene must be a table of keys")
@@ -228,8 +247,13 @@ def scene_from_dict(raw: dict, *, text: str | None = None) -> Scene:
     if lithology == "shale" and "patchy_cement" in models_raw:
         raise ValueError("model 'patchy_cement' (Model 4) needs cement: sandstone scenes only")
     models = tuple(label for label in MODEL_LABELS if label in models_raw)
+    calibrations = {}
     for label in models:
-        sections[f"models.{label}"] = _section(f"models.{label}", models_raw[label],
+        given = models_raw[label]
+        if label in CALIBRATED_MODELS and isinstance(given, dict) \
+                and given.get("calibration") is not None:
+            given, calibrations[label] = _apply_calibration(label, given, base_dir)
+        sections[f"models.{label}"] = _section(f"models.{label}", given,
                                                SCHEMA[f"models.{label}"])
     if sections["path"]["kind"] != "linear":
         raise ValueError("scene key path.kind must be 'linear' (the linear basin model)")
@@ -255,7 +279,31 @@ def scene_from_dict(raw: dict, *, text: str | None = None) -> Scene:
     if text is None:
         text = _to_toml(raw)
     return Scene(head["name"], lithology, tuple(outputs), head["output"] or f"{head['name']}.nc",
-                 models, sections, sweep, text, head["description"])
+                 models, sections, sweep, text, head["description"],
+                 None if base_dir is None else str(base_dir), calibrations)
+
+
+def _apply_calibration(label, given, base_dir):
+    """The model table with the calibration file's parameters applied, and the file's record."""
+    from .calibrate import load_calibration
+
+    where = f"models.{label}.calibration"
+    name = _check_value(f"models.{label}", "calibration", given["calibration"], "string")
+    try:
+        cal = load_calibration(name, base_dir=base_dir)
+    except ValueError as exc:
+        raise ValueError(f"scene key {where}: {exc}") from None
+    knobs = [k for k in SCHEMA[f"models.{label}"] if k != "calibration"]
+    foreign = [k for k in cal["parameters"] if k not in knobs]
+    if foreign:
+        raise ValueError(f"scene key {where}: parameter {foreign[0]!r} of calibration "
+                         f"{cal['name']!r} ({cal['model']}) is not a parameter of model "
+                         f"{label!r} (valid: {', '.join(knobs)})")
+    twice = [k for k in cal["parameters"] if k in given]
+    if twice:
+        raise ValueError(f"scene key models.{label}.{twice[0]} is also set by calibration "
+                         f"{cal['name']!r}; remove one of them")
+    return {**given, **cal["parameters"]}, cal
 
 
 def _validate_sweep(sweep, sections):
@@ -316,11 +364,11 @@ def load_scene(source) -> Scene:
     if "md" in raw:
         raise ValueError(f"{source} is an MD scene (a table [md]): run it with `rockcem run` or "
                          "md.experiment.run_md_scene")
-    return scene_from_dict(raw, text=text)
+    return scene_from_dict(raw, text=text, base_dir=scene_path(source).parent)
 
 
-def read_scene_toml(source) -> tuple[dict, str]:
-    """The parsed TOML and text of a scene file path or shipped scene name (not validated)."""
+def scene_path(source) -> Path:
+    """The file of a scene file path or shipped scene name."""
     path = Path(source)
     if not path.suffix and not path.exists():
         shipped = shipped_scenes()
@@ -330,6 +378,12 @@ def read_scene_toml(source) -> tuple[dict, str]:
         path = shipped[str(source)]
     if not path.is_file():
         raise ValueError(f"scene file {str(source)!r} not found")
+    return path
+
+
+def read_scene_toml(source) -> tuple[dict, str]:
+    """The parsed TOML and text of a scene file path or shipped scene name (not validated)."""
+    path = scene_path(source)
     text = path.read_text()
     try:
         raw = tomllib.loads(text)

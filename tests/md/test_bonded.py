@@ -44,13 +44,13 @@ def test_rigid_cement_gives_the_welded_punch_pair():
 
 def test_rigid_grains_give_the_thin_layer_integral():
     """Grains 1e9 times stiffer than the cement: the cement layer alone,
-    k_n = 2 pi M_c int r dr / t(r), k_s with G_c, bending pi M_c int r^3/t, twisting 2 pi G_c."""
+    k_n = 2 pi M_c int r dr / t(r), t the gap 2 eps R + 2 (R - sqrt(R^2 - r^2)), k_s with G_c, bending pi M_c int r^3/t, twisting 2 pi G_c."""
     R, alpha, eps, Kc, Gc = 1e-4, 0.5, 0.02, 6.8e9, 2.0e9
     Mc = Kc + 4 * Gc / 3
     s = bond_stiffness(R, alpha, eps, 1e9 * K_GRAIN, 1e9 * G_GRAIN, Kc, Gc)
 
     def t(r):
-        return eps * R + gap(r, R)
+        return 2 * eps * R + gap(r, R)                   # eps is half the axial gap over R
     i0 = quad(lambda r: r / t(r), 0, alpha * R, epsabs=0, epsrel=1e-12)[0]
     i2 = quad(lambda r: r**3 / t(r), 0, alpha * R, epsabs=0, epsrel=1e-12)[0]
     assert s.normal == pytest.approx(2 * np.pi * Mc * i0, rel=1e-6)
@@ -75,7 +75,7 @@ def test_bond_stiffness_monotone_in_radius_thickness_and_cement():
 
 def test_cement_volume_matches_quadrature():
     R, alpha, eps = 1.5e-4, 0.45, 0.03
-    ref = quad(lambda r: 2 * np.pi * r * (eps * R + gap(r, R)), 0, alpha * R, epsabs=0,
+    ref = quad(lambda r: 2 * np.pi * r * (2 * eps * R + gap(r, R)), 0, alpha * R, epsabs=0,
                epsrel=1e-12)[0]
     assert bond_cement_volume(R, alpha, eps) == pytest.approx(ref, rel=1e-9)
 
@@ -162,7 +162,7 @@ def test_relaxed_moduli_do_not_exceed_affine(jittered):
 
 def test_distant_bonding_is_softer_and_grid_dataset():
     """A gap h bridged by cement softens the sample (Xu 2023, Fig. 6); the grid Dataset holds
-    K, G over a/R and h/R in GPa with porosity rising with h (the grains shrink by h/2)."""
+    K, G over a/R and h/2R in GPa with porosity rising with h (the grains shrink by 1 - eps)."""
     pack, _ = lattice_pack(n=(3, 3, 6))
     ds = bonded_moduli(pack, [0.3, 0.5], [0.0, 0.02, 0.05], cement_bulk=6.8e9,
                        cement_shear=2.0e9)

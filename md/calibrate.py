@@ -1,0 +1,644 @@
+r"""Calibrate effective-medium models against MD results, and with the same routine against
+measurements.
+
+Layering: this module is the one place where :mod:`md` meets :mod:`rockcem`. md's engine modules
+never import rockcem; this one imports it (and xarray) only inside its functions, so
+``import md`` stays light. The fit itself is :func:`rockcem.calibrate.fit_parameters` (least
+squares on relative or error-weighted residuals, standard errors from the Jacobian); this module
+turns a Dataset into the predictor and the observations it needs, one fit per group, and the
+results back into a Dataset. Units are those of rockcem's API: moduli GPa, density g/cm³,
+velocity km/s, pressure MPa, fractions (the MD results of :func:`md.experiment.run_md_scene` are
+already in them; md's SI materials are converted here).
+
+Models (:data:`MODELS` lists each parameter with its default, starting value, bounds and unit):
+
+``contact_cement``
+    The contact cement theory (CCT) of Dvorkin & Nur, eq. 15 of [Carcione2022]_ and eq. A1 of
+    [GarciaMedina2007]_, with the cement radius of scheme 1 (cement at the contacts, eq. 16 of
+    [Carcione2022]_, eq. A3 second line of [GarciaMedina2007]_) or scheme 2 (coating, eq. 18,
+    eq. A3 first line), and with a contact thickness :math:`\varepsilon > 0` the MCCT of
+    [HanGuo]_ (eq. 7; eq. A-9 of [Xu2023]_): :func:`rockcem.granular.contact_cement`. Free
+    parameters: ``coordination_number`` :math:`n`, ``thickness`` :math:`\varepsilon` and
+    ``cement_efficiency`` :math:`\eta`, the fraction of the cement volume the theory sees as
+    contact cement (the cement radius follows from :math:`\phi_c - \phi_\eta` with
+    :math:`\phi_\eta = \phi_c - \eta(\phi_c - \phi)`; the pack term :math:`1 - \phi_c` is
+    unchanged). Points without cement are left out of these fits: the theory describes cemented
+    contacts only (at zero cement it gives the small stiffness of its :math:`C` terms).
+``patchy_cement``
+    The dry frame of Model 4 of [Carcione2022]_ (eqs. 15–21, D.1–D.2): cemented patches by CCT,
+    uncemented ones by Hertz–Mindlin at the effective pressure plus the bonding pre-stress
+    :math:`\delta`, joined by the HS upper bound, then interpolated to the mineral
+    (:func:`rockcem.granular.patchy_cement`; the cement fraction is :math:`\phi_c - \phi`).
+    Free parameters: ``coordination_number``, ``thickness``, ``delta`` (MPa),
+    ``contact_cement_limit`` :math:`\phi_{p0}` and ``f`` (no-slip fraction).
+
+The data: an ``xarray.Dataset`` with the observed quantities, any of ``vp``, ``vs`` (km/s),
+``K``, ``G`` (GPa), and the rock state: ``porosity`` (after cementation, fraction) and
+``density`` (g/cm³, needed for velocities); optionally ``porosity_uncemented`` (the critical
+porosity :math:`\phi_c`; or an attribute ``critical_porosity``), ``coordination_number``
+(used where :math:`n` is held), ``stress`` or ``pressure_effective`` (MPa, patchy cement),
+``<name>_error`` (one-sigma errors of an observed quantity, e.g. the eq. 11 errors ``vp_error``
+of the pulse test, used as weights), and for bonded-contact results a coordinate
+``radius_ratio`` (:math:`a/R`, used as the cement radius :math:`\alpha` directly) with an
+optional ``thickness_ratio`` (used as :math:`\varepsilon` where it is held). Grain and cement
+moduli come from the arguments or from attributes ``grain_K``, ``grain_G``, ``cement_K``,
+``cement_G`` (GPa; densities ``grain_rho``, ``cement_rho`` optional).
+
+:func:`calibrate` returns the fits as a Dataset; :func:`write_calibration` writes one parameter
+set as a calibration file (TOML, format ``rockcem-calibration/1``, described in
+``datasets/calibrations/README.md``) that scenes read with
+``[models.patchy_cement] calibration = "<file or shipped name>"``.
+"""
+
+from __future__ import annotations
+
+import datetime
+import itertools
+import json
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["MODELS", "calibrate", "as_mineral", "write_calibration"]
+
+#: Parameters of each model: ``{name: (held default, start, lower, upper, unit, description)}``.
+#: A held parameter takes the value in ``fixed``, else the data's (``coordination_number``,
+#: ``thickness_ratio``), else the default; a free one starts from the data's value or ``start``.
+MODELS: dict[str, dict[str, tuple]] = {
+    "contact_cement": {
+        "coordination_number": (9.0, 9.0, 2.0, 20.0, "1", "coordination number n"),
+        "thickness": (0.0, 0.01, 0.0, 0.2, "1",
+                      "MCCT contact thickness epsilon (half the axial gap over R)"),
+        "cement_efficiency": (1.0, 0.5, 1e-3, 1.0, "1",
+                              "fraction of the cement volume that is contact cement"),
+    },
+    "patchy_cement": {
+        "coordination_number": (9.0, 9.0, 2.0, 20.0, "1", "coordination number n"),
+        "thickness": (0.0, 0.01, 0.0, 0.2, "1",
+                      "MCCT contact thickness epsilon (half the axial gap over R)"),
+        "delta": (0.0, 10.0, 0.0, 500.0, "MPa", "bonding pre-stress delta"),
+        "contact_cement_limit": (0.05, 0.05, 1e-3, 0.4, "1",
+                                 "phi_p0, the most cement that sits at contacts"),
+        "f": (1.0, 0.5, 0.0, 1.0, "1", "Hertz-Mindlin no-slip fraction"),
+    },
+}
+
+_OBSERVABLES = {"vp": "km s-1", "vs": "km s-1", "K": "GPa", "G": "GPa"}
+_REFERENCES = {"contact_cement": ["DvorkinNur1996", "Mavko2009", "HanGuo", "Xu2023",
+                                  "GarciaMedina2007"],
+               "patchy_cement": ["Carcione2022", "Avseth2016", "DvorkinNur1996", "Walton1987",
+                                 "GangiCarlson1996", "HanGuo", "GarciaMedina2007"]}
+
+
+def as_mineral(material, name=""):
+    """A :class:`rockcem.materials.Mineral` (GPa, g/cm³) from a Mineral or an md material.
+
+    Parameters
+    ----------
+    material : Mineral, md.GrainMaterial or md.CementMaterial
+        md's materials are in SI (Pa, m/s, kg/m³) and are converted.
+    name : str
+        Label of the result when converting.
+
+    Returns
+    -------
+    Mineral
+    """
+    from rockcem.materials import Mineral
+
+    from .cement import CementMaterial
+    from .contact import GrainMaterial
+
+    if isinstance(material, Mineral):
+        return material
+    if isinstance(material, GrainMaterial):
+        return Mineral.from_poisson(material.shear_modulus / 1e9, material.poisson_ratio,
+                                    material.density / 1e3, name, "md.GrainMaterial")
+    if isinstance(material, CementMaterial):
+        return Mineral.from_velocities(material.vp / 1e3, material.vs / 1e3,
+                                       material.density / 1e3, name, "md.CementMaterial")
+    raise ValueError(f"{name or 'material'} must be a rockcem Mineral, md.GrainMaterial or "
+                     f"md.CementMaterial; got {type(material).__name__}")
+
+
+def _attrs_mineral(data, which):
+    from rockcem.materials import Mineral
+
+    keys = [f"{which}_K", f"{which}_G"]
+    if not all(k in data.attrs for k in keys):
+        raise ValueError(f"{which} is required: give a Mineral or md material, or attributes "
+                         f"{keys[0]}, {keys[1]} (GPa) on the data")
+    return Mineral(float(data.attrs[keys[0]]), float(data.attrs[keys[1]]),
+                   float(data.attrs.get(f"{which}_rho", 2.65)), which, "data attributes")
+
+
+def _free_spec(model, free):
+    table = MODELS[model]
+    if free is None:
+        return {}
+    if isinstance(free, str):
+        free = [free]
+    items = free.items() if isinstance(free, Mapping) else [(k, None) for k in free]
+    spec = {}
+    for name, bounds in items:
+        if name not in table:
+            raise ValueError(f"free parameter {name!r} is not a parameter of model {model!r} "
+                             f"(valid: {', '.join(table)})")
+        spec[name] = None if bounds is None else tuple(float(b) for b in bounds)
+        if bounds is not None and len(spec[name]) != 3:
+            raise ValueError(f"free[{name!r}] must be (initial, lower, upper); got {bounds!r}")
+    return spec
+
+
+def _flat(sub, name, ref, point_dims):
+    """Variable or coordinate ``name`` of a group, broadcast to the observed grid, flattened."""
+    var = sub[name]
+    extra = [d for d in var.dims if d not in ref.dims]
+    if extra:
+        raise ValueError(f"data variable {name!r} has dimensions {extra} that the observed "
+                         f"quantities do not have")
+    return np.asarray(var.broadcast_like(ref).transpose(*point_dims).values, dtype=float).ravel()
+
+
+def _radius_porosity(alpha, phic, n, scheme, eps):
+    r"""Porosity whose cement radius (:func:`rockcem.granular.cement_radius`) is ``alpha``.
+
+    Inverts eq. 7 of [HanGuo]_ (scheme 1): with :math:`y = \frac{4}{3n}\frac{\phi_c -
+    \phi}{1-\phi_c}`, :math:`\alpha^2 = 2y/(\varepsilon + \sqrt{\varepsilon^2 + y})` gives
+    :math:`y = \alpha^2(\alpha^2/4 + \varepsilon)`; scheme 2 (eq. 18 of [Carcione2022]_):
+    :math:`(\phi_c - \phi)/(1-\phi_c) = 3\alpha^2/2`.
+    """
+    if scheme == 2:
+        x = 1.5 * alpha**2
+    else:
+        x = 0.75 * n * alpha**2 * (0.25 * alpha**2 + eps)
+    return phic - x * (1.0 - phic)
+
+
+class _Group:
+    """The rock state and observations of one fit, flattened over the point dimensions.
+
+    ``valid`` marks points with a complete rock state (the model is evaluated there, NaN
+    elsewhere); ``used`` the valid points with usable observations that enter the fit.
+    """
+
+    def __init__(self, sub, obs_names, point_dims, model, *, phic, pressure, errors,
+                 radius):
+        ref = sub[obs_names[0]]
+        self.obs = {k: _flat(sub, k, ref, point_dims) for k in obs_names}
+        self.err = ({k: _flat(sub, v, ref, point_dims) for k, v in errors.items()}
+                    if errors else None)
+        porosity = _flat(sub, "porosity", ref, point_dims)
+        self.size = porosity.size
+        state = {"porosity": porosity,
+                 "phic": (_flat(sub, phic, ref, point_dims) if isinstance(phic, str)
+                          else np.full(self.size, float(phic)))}
+        if {"vp", "vs"} & set(obs_names):
+            state["density"] = _flat(sub, "density", ref, point_dims)
+        if pressure is not None:
+            state["pressure"] = (_flat(sub, pressure, ref, point_dims)
+                                 if isinstance(pressure, str) else np.full(self.size, pressure))
+        if radius:
+            state["alpha"] = _flat(sub, "radius_ratio", ref, point_dims)
+        self.data_values = {}
+        if "coordination_number" in sub.variables:
+            self.data_values["coordination_number"] = _flat(sub, "coordination_number", ref,
+                                                            point_dims)
+        if radius and "thickness_ratio" in sub.variables:
+            self.data_values["thickness"] = _flat(sub, "thickness_ratio", ref, point_dims)
+        self.valid = np.ones(self.size, dtype=bool)
+        for v in (*state.values(), *self.data_values.values()):
+            self.valid &= np.isfinite(v)
+        self.state = {k: v[self.valid] for k, v in state.items()}
+        ok = self.valid.copy()
+        for k in obs_names:
+            ok &= np.isfinite(self.obs[k]) & (self.obs[k] > 0)
+            if self.err is not None:
+                ok &= np.isfinite(self.err[k]) & (self.err[k] > 0)
+        if model == "contact_cement":
+            with np.errstate(invalid="ignore"):
+                cement = state["alpha"] if radius else state["phic"] - state["porosity"]
+                ok &= cement > 1e-12
+        self.used = ok
+
+
+def _predictor(model, group, grain, cement, scheme, stiffness, held, obs_names):
+    """``predict(**free) -> {name: array over all points}`` (NaN where the state is not valid).
+
+    ``held`` values are scalars or arrays over all points."""
+    from rockcem.elastic import velocities
+    from rockcem.granular import contact_cement, patchy_cement
+
+    g, st = group, group.state
+    held = {k: (v[g.valid] if np.ndim(v) else v) for k, v in held.items()}
+
+    def predict(**free):
+        p = {**held, **free}
+        n, eps, phic = p["coordination_number"], p["thickness"], st["phic"]
+        if model == "contact_cement":
+            if "alpha" in st:
+                phi = _radius_porosity(st["alpha"], phic, n, scheme, eps)
+            else:
+                phi = phic - p["cement_efficiency"] * (phic - st["porosity"])
+            m = contact_cement(grain.K, grain.G, cement.K, cement.G, phi, phic, n, scheme, eps,
+                               stiffness=stiffness)
+        else:
+            m = patchy_cement(grain.K, grain.G, cement.K, cement.G, st["porosity"], phic, n,
+                              st["pressure"], phic - st["porosity"], p["contact_cement_limit"],
+                              scheme, eps, p["f"], p["delta"])
+        out = {"K": m.K, "G": m.G}
+        if "density" in st:
+            v = velocities(m.K, m.G, st["density"])
+            out.update(vp=v.vp, vs=v.vs)
+        result = {}
+        for k in obs_names:
+            full = np.full(g.size, np.nan)
+            full[g.valid] = np.broadcast_to(out[k], (int(g.valid.sum()),))
+            result[k] = full
+        return result
+
+    return predict
+
+
+def _inputs(data, model, free, fixed, grain, cement, scheme, observed, errors,
+            critical_porosity, pressure, stiffness):
+    """Check the arguments of :func:`calibrate` against the data; resolve the defaults."""
+    import xarray as xr
+
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if scheme not in (1, 2):
+        raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating); got {scheme!r}")
+    if stiffness not in ("fit", "integral"):
+        raise ValueError(f"stiffness must be 'fit' or 'integral'; got {stiffness!r}")
+    if not isinstance(data, xr.Dataset):
+        raise ValueError(f"data must be an xarray.Dataset; got {type(data).__name__}")
+    free = _free_spec(model, free)
+    if not free:
+        raise ValueError("free must name at least one parameter to fit")
+    fixed = dict(fixed or {})
+    for k, v in fixed.items():
+        if not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+            raise ValueError(f"fixed[{k!r}] must be a finite number; got {v!r}")
+        if k not in MODELS[model] or k in free:
+            raise ValueError(f"fixed parameter {k!r} is free or not a parameter of model "
+                             f"{model!r} (valid: {', '.join(MODELS[model])})")
+    radius = "radius_ratio" in data.variables
+    if radius and (model != "contact_cement" or "cement_efficiency" in free):
+        raise ValueError("bonded-contact data (radius_ratio: the cement radius is given) can be "
+                         "fitted with model 'contact_cement' and no cement_efficiency only")
+    obs = list(observed) if observed is not None else [k for k in _OBSERVABLES
+                                                        if k in data.data_vars]
+    if not obs or any(k not in _OBSERVABLES or k not in data.data_vars for k in obs):
+        raise ValueError(f"observed must name variables of the data among "
+                         f"{', '.join(_OBSERVABLES)}; got {obs or 'none'}")
+    for k in ("porosity",) + (("density",) if {"vp", "vs"} & set(obs) else ()):
+        if k not in data.variables:
+            raise ValueError(f"data needs a variable {k!r}")
+    if errors == "auto":
+        errors = {k: f"{k}_error" for k in obs}
+        errors = errors if all(v in data.variables for v in errors.values()) else None
+    elif isinstance(errors, Mapping):
+        errors = dict(errors)
+        if set(errors) != set(obs) or any(v not in data.variables for v in errors.values()):
+            raise ValueError(f"errors must map each observed quantity {obs} to an error "
+                             f"variable of the data; got {errors}")
+    elif errors is not None:
+        raise ValueError(f"errors must be 'auto', None or a mapping; got {errors!r}")
+    number = (int, float, np.integer, np.floating)
+    for name, v in (("critical_porosity", critical_porosity), ("pressure", pressure)):
+        if v is not None and (not isinstance(v, number) or not np.isfinite(v)):
+            raise ValueError(f"{name} must be a finite number; got {v!r}")
+    if critical_porosity is not None:
+        if not 0.0 < float(critical_porosity) < 1.0:
+            raise ValueError(f"critical_porosity must lie in (0, 1); got {critical_porosity!r}")
+        phic = (float(critical_porosity), "argument critical_porosity")
+    elif "porosity_uncemented" in data.variables:
+        phic = ("porosity_uncemented", "data variable porosity_uncemented")
+    elif "critical_porosity" in data.attrs:
+        phic = (float(data.attrs["critical_porosity"]), "data attribute critical_porosity")
+    elif radius:
+        phic = ("porosity", "data variable porosity (bonded contacts: the pack's)")
+    else:
+        raise ValueError("critical_porosity is required: give it, or a data variable "
+                         "porosity_uncemented, or a data attribute critical_porosity")
+    press = None
+    if model == "patchy_cement":
+        press = pressure if pressure is not None else next(
+            (k for k in ("stress", "pressure_effective") if k in data.variables), None)
+        if press is None:
+            raise ValueError("pressure is required for patchy_cement: give it (MPa) or a data "
+                             "variable stress or pressure_effective")
+        if not isinstance(press, str) and not press >= 0:
+            raise ValueError(f"pressure must be >= 0 MPa; got {pressure!r}")
+    grain = as_mineral(grain, "grain") if grain is not None else _attrs_mineral(data, "grain")
+    cement = (as_mineral(cement, "cement") if cement is not None
+              else _attrs_mineral(data, "cement"))
+    return dict(free=free, fixed=fixed, radius=radius, obs=obs, errors=errors, phic=phic,
+                press=press, grain=grain, cement=cement)
+
+
+def _fit_group(g, model, spec, held, inp, scheme, stiffness, absolute_errors, where):
+    """Fit one group; the FitResult and the prediction at every point."""
+    from rockcem.calibrate import fit_parameters
+
+    predict_all = _predictor(model, g, inp["grain"], inp["cement"], scheme, stiffness, held,
+                             inp["obs"])
+
+    def predict(**p):
+        return {k: v[g.used] for k, v in predict_all(**p).items()}
+
+    try:
+        fit = fit_parameters(
+            predict, {k: v[g.used] for k, v in g.obs.items()}, spec,
+            errors=None if g.err is None else {k: v[g.used] for k, v in g.err.items()},
+            absolute_errors=absolute_errors)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    return fit, predict_all(**fit.values)
+
+
+def calibrate(data, model="contact_cement", *, free=("coordination_number",), fixed=None,
+              grain=None, cement=None, scheme=1, observed=None, errors="auto",
+              absolute_errors=False, each=None, critical_porosity=None, pressure=None,
+              stiffness="fit"):
+    r"""Fit effective-medium parameters to MD results or measurements by least squares.
+
+    One fit per combination of the ``each`` dimensions (e.g. per MD sample, cement and
+    cementation scheme), over the remaining (point) dimensions (e.g. cement saturation
+    :math:`S_c`), with :func:`rockcem.calibrate.fit_parameters`: relative residuals
+    :math:`p/o - 1`, or :math:`(p - o)/\sigma` where errors :math:`\sigma` are used.
+
+    Parameters
+    ----------
+    data : xarray.Dataset
+        Observations and rock state; see the module docstring for the variables it may hold.
+    model : {"contact_cement", "patchy_cement"}
+        The effective-medium model (see the module docstring and :data:`MODELS`).
+    free : sequence of str or mapping, keyword-only
+        The parameters to fit: names (start and bounds from :data:`MODELS`; :math:`n` starts
+        from the data's coordination number if there is one), or ``{name: (initial, lower,
+        upper)}``. Default: the coordination number.
+    fixed : mapping, optional, keyword-only
+        Values of held parameters (over the data's and the defaults of :data:`MODELS`).
+    grain, cement : Mineral, md.GrainMaterial or md.CementMaterial, optional, keyword-only
+        Materials; default from the data's attributes (module docstring).
+    scheme : {1, 2}, keyword-only
+        Cement radius of scheme 1 (at the contacts) or 2 (coating).
+    observed : sequence of str, optional, keyword-only
+        Quantities to fit among ``vp``, ``vs`` (km/s), ``K``, ``G`` (GPa); default all of
+        these the data holds.
+    errors : "auto", None or mapping, keyword-only
+        ``"auto"``: weight by the data's ``<name>_error`` when there is one for every observed
+        quantity (the eq. 11 errors of the pulse test), else relative residuals; ``None``:
+        relative residuals; ``{name: variable}``: those error variables (units of the
+        observation, ``> 0``).
+    absolute_errors : bool, keyword-only
+        Take the errors as true standard deviations (see
+        :func:`rockcem.calibrate.fit_parameters`); default: scale by the residual variance.
+    each : sequence of str, optional, keyword-only
+        Dimensions to fit separately. Default: every dimension of the observations but
+        ``saturation`` when there is one; otherwise one joint fit over all points.
+    critical_porosity : float, optional, keyword-only
+        :math:`\phi_c`, in (0, 1); default the data's ``porosity_uncemented``, else its
+        attribute ``critical_porosity``, else (bonded-contact data) its ``porosity``.
+    pressure : float, optional, keyword-only
+        Effective pressure for ``patchy_cement``, MPa, ``>= 0``; default the data's
+        ``stress`` or ``pressure_effective``.
+    stiffness : {"fit", "integral"}, keyword-only
+        Contact stiffnesses of :func:`rockcem.granular.contact_cement` (``contact_cement``
+        only; ``patchy_cement`` uses the handbook fit).
+
+    Returns
+    -------
+    xarray.Dataset
+        Over the ``each`` dimensions: ``value`` and ``stderr`` (dimension ``parameter``, every
+        parameter of the model, with ``parameter_units``; the error of a held one is 0),
+        ``fitted`` (per parameter), ``at_bound``, ``covariance`` (``cov_i`` × ``cov_j``, the
+        free parameters), ``misfit`` and ``misfit_initial`` (root-mean-square relative misfit
+        per ``observed`` quantity, at the solution and the start), ``chi2``, ``dof``,
+        ``n_points``, ``success``; over the data's dimensions each observation, its
+        prediction ``<name>_model`` (NaN where the rock state is incomplete), its error
+        ``<name>_error`` where used, and ``used`` (points in the fit). Attributes name the
+        model, scheme, materials, held values, weights and the data.
+
+    Raises
+    ------
+    ValueError
+        For an unknown model or parameter, bounds that do not hold the start, missing data
+        variables, too few points, or rock states out of the model's range.
+
+    Examples
+    --------
+    Synthetic CCT velocities with :math:`n = 7` are fitted back:
+
+    >>> import numpy as np, xarray as xr
+    >>> from rockcem.granular import contact_cement
+    >>> from rockcem.materials import mineral
+    >>> q, c = mineral("quartz_garcia_medina"), mineral("hard_cement")
+    >>> phi = 0.38 * (1 - np.array([0.02, 0.05, 0.1, 0.2]))
+    >>> m = contact_cement(q.K, q.G, c.K, c.G, phi, 0.38, 7.0)
+    >>> rho = 2.65 * 0.62 + 2.65 * (0.38 - phi)
+    >>> ds = xr.Dataset({"vp": ("saturation", np.sqrt((m.K + 4 / 3 * m.G) / rho)),
+    ...                  "porosity": ("saturation", phi), "density": ("saturation", rho)},
+    ...                 attrs={"critical_porosity": 0.38})
+    >>> fit = calibrate(ds, grain=q, cement=c)
+    >>> round(float(fit.value.sel(parameter="coordination_number")), 6)
+    7.0
+    """
+    import xarray as xr
+
+    inp = _inputs(data, model, free, fixed, grain, cement, scheme, observed, errors,
+                  critical_porosity, pressure, stiffness)
+    table, obs = MODELS[model], inp["obs"]
+    ref = xr.broadcast(*[data[k] for k in obs])[0]
+    dims = ref.dims
+    if each is None:
+        each = tuple(d for d in dims if d != "saturation") if "saturation" in dims else ()
+    each = (each,) if isinstance(each, str) else tuple(each)
+    if any(d not in dims for d in each):
+        raise ValueError(f"each must name dimensions of the observations {dims}; got {each}")
+    points = tuple(d for d in dims if d not in each)
+    names = list(table)
+    free_names = [k for k in names if k in inp["free"]]
+    rows, sources = [], {}
+    for idx in itertools.product(*(range(data.sizes[d]) for d in each)):
+        sub = data.isel(dict(zip(each, idx)))
+        g = _Group(sub, obs, points, model, phic=inp["phic"][0], pressure=inp["press"],
+                   errors=inp["errors"], radius=inp["radius"])
+        where = ", ".join(f"{d}={data[d][i].item()!r}" for d, i in zip(each, idx)) \
+            or "all points"
+        n_used = int(g.used.sum())
+        if n_used == 0 or n_used * len(obs) < len(free_names):
+            raise ValueError(f"{where}: {n_used} usable points cannot fit {free_names}")
+        held = {}
+        for k in names:
+            if k in free_names:
+                continue
+            src = "fixed" if k in inp["fixed"] else "data" if k in g.data_values else "default"
+            held[k] = {"fixed": inp["fixed"].get(k), "data": g.data_values.get(k),
+                       "default": table[k][0]}[src]
+            sources[k] = src
+        spec = {}
+        for k in free_names:
+            lo, hi = table[k][2], table[k][3]
+            start = float(np.mean(g.data_values[k][g.used])) if k in g.data_values else \
+                table[k][1]
+            spec[k] = inp["free"][k] or (min(max(start, lo), hi), lo, hi)
+        fit, pred = _fit_group(g, model, spec, held, inp, scheme, stiffness, absolute_errors,
+                               where)
+        rows.append({
+            "value": [fit.values[k] if k in fit.values
+                      else float(np.mean(np.asarray(held[k])[g.used] if np.ndim(held[k])
+                                         else held[k])) for k in names],
+            "stderr": [fit.stderr.get(k, 0.0) for k in names],
+            "at_bound": [fit.at_bound.get(k, False) for k in names],
+            "covariance": fit.covariance,
+            "misfit": [fit.misfit[k] for k in obs],
+            "misfit_initial": [fit.misfit_initial[k] for k in obs],
+            "chi2": fit.chi2, "dof": fit.dof, "n_points": n_used, "success": fit.success,
+            "used": g.used.reshape([data.sizes[d] for d in points]),
+            **{f"{k}_model": pred[k].reshape([data.sizes[d] for d in points]) for k in obs},
+        })
+    shape = tuple(data.sizes[d] for d in each)
+
+    def stack(key):
+        return np.reshape(np.array([r[key] for r in rows]), shape + np.shape(rows[0][key]))
+
+    E = each
+    out = xr.Dataset(
+        {
+            "value": (E + ("parameter",), stack("value"),
+                      {"long_name": "parameter value (fitted, or held where fitted is false)"}),
+            "stderr": (E + ("parameter",), stack("stderr"),
+                       {"long_name": "one-standard-deviation error (0 where held)"}),
+            "fitted": (("parameter",), np.array([k in free_names for k in names])),
+            "at_bound": (E + ("parameter",), stack("at_bound"),
+                         {"long_name": "fitted value on a bound (its error is understated)"}),
+            "covariance": (E + ("cov_i", "cov_j"), stack("covariance")),
+            "misfit": (E + ("observed",), stack("misfit"),
+                       {"units": "1", "long_name": "root-mean-square relative misfit"}),
+            "misfit_initial": (E + ("observed",), stack("misfit_initial"),
+                               {"units": "1", "long_name": "the same at the start"}),
+            "chi2": (E, stack("chi2"), {"long_name": "sum of squared residuals"}),
+            "dof": (E, stack("dof"), {"long_name": "residuals minus free parameters"}),
+            "n_points": (E, stack("n_points"), {"long_name": "points in the fit"}),
+            "success": (E, stack("success")),
+            "used": (E + points, stack("used"), {"long_name": "point entered the fit"}),
+            **{f"{k}_model": (E + points, stack(f"{k}_model"),
+                              {"units": _OBSERVABLES[k], "long_name": f"{k} of the model"})
+               for k in obs},
+        },
+        coords={**{d: data[d] for d in dims if d in data.coords}, "parameter": names,
+                "parameter_units": ("parameter", [table[k][4] for k in names]),
+                "cov_i": free_names, "cov_j": free_names, "observed": obs},
+    )
+    for k in obs:
+        out[k] = data[k].broadcast_like(ref)
+        if inp["errors"]:
+            out[f"{k}_error"] = data[inp["errors"][k]].broadcast_like(ref)
+    out = out.transpose(*dims, ...)
+    out.attrs.update(_attrs(data, model, scheme, stiffness, inp, free_names, sources,
+                            absolute_errors))
+    return out
+
+
+def _attrs(data, model, scheme, stiffness, inp, free_names, sources, absolute_errors):
+    import rockcem
+    from rockcem.references import REFERENCES
+
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    described = data.attrs.get("title") or data.attrs.get("scene_name") or "data"
+    err = inp["errors"]
+    weights = ("error-weighted residuals (p - o)/sigma, sigma = " + ", ".join(err.values())
+               + (" (absolute)" if absolute_errors else " (scaled by the residual variance)")
+               if err else "relative residuals p/o - 1")
+    grain, cement = inp["grain"], inp["cement"]
+    return {
+        "Conventions": "CF-1.10",
+        "title": f"calibration of {model} (scheme {scheme}) against {described}",
+        "calibration_model": model, "scheme": int(scheme), "stiffness": stiffness,
+        "free_parameters": " ".join(free_names),
+        "held_json": json.dumps({k: {"source": s, **({"value": inp["fixed"][k]}
+                                                    if s == "fixed" else {})}
+                                 for k, s in sources.items()}),
+        "weights": weights, "critical_porosity_source": inp["phic"][1],
+        "grain": grain.name, "grain_K": grain.K, "grain_G": grain.G, "grain_rho": grain.rho,
+        "cement": cement.name, "cement_K": cement.K, "cement_G": cement.G,
+        "cement_rho": cement.rho,
+        "data": str(described),
+        "source": f"md.calibrate (rockcem {rockcem.__version__})",
+        "history": f"{now} created by md.calibrate.calibrate",
+        "references": "\n".join(f"[{k}] {REFERENCES[k]}" for k in _REFERENCES[model]),
+    }
+
+
+# ----------------------------------------------------------------------------- calibration file
+def write_calibration(fit, path, *, name=None, description="", **selection) -> Path:
+    """Write one fitted parameter set of :func:`calibrate` as a calibration file for scenes.
+
+    The file (TOML, format ``rockcem-calibration/1``, :func:`rockcem.calibrate.write_calibration`;
+    see ``datasets/calibrations/README.md``) lists in ``[parameters]`` every model parameter
+    the fit used, fitted or held, and the cement-radius ``scheme`` (``cement_efficiency`` is
+    left out when held at 1, where it does nothing); the errors of the fitted ones, the misfit
+    and what the fit was made on are kept for the record.
+
+    Parameters
+    ----------
+    fit : xarray.Dataset
+        From :func:`calibrate`.
+    path : str or Path
+        File to write (``.toml``).
+    name : str, optional, keyword-only
+        Name of the calibration; default the file's stem.
+    description : str, keyword-only
+        Free text.
+    **selection
+        Labels selecting one fit, e.g. ``sample="compacted", cement="hard",
+        scheme="contact"``: one for every dimension of ``value`` but ``parameter``.
+
+    Returns
+    -------
+    Path
+    """
+    from rockcem.calibrate import write_calibration as write
+
+    if "calibration_model" not in fit.attrs or "value" not in fit:
+        raise ValueError("fit must be a Dataset returned by md.calibrate.calibrate")
+    try:
+        one = fit.sel(selection) if selection else fit
+    except (KeyError, ValueError) as exc:
+        raise ValueError(f"selection {selection} does not match the fit's labels: {exc}") \
+            from None
+    left = [d for d in one["value"].dims if d != "parameter"]
+    if left:
+        raise ValueError(f"select one fit: give a label for {', '.join(left)} "
+                         f"(e.g. {left[0]}={one[left[0]].values[0].item()!r})")
+    path = Path(path)
+    fitted = {str(k): bool(f) for k, f in zip(one.parameter.values, one.fitted.values)}
+    params = {k: float(one.value.sel(parameter=k)) for k in fitted}
+    if not fitted.get("cement_efficiency", True) and params["cement_efficiency"] == 1.0:
+        del params["cement_efficiency"]
+    params["scheme"] = int(fit.attrs["scheme"])
+    where = ", ".join(f"{k} = {v}" for k, v in selection.items())
+    record = {
+        "grain": fit.attrs["grain"], "grain_K": fit.attrs["grain_K"],
+        "grain_G": fit.attrs["grain_G"], "cement": fit.attrs["cement"],
+        "cement_K": fit.attrs["cement_K"], "cement_G": fit.attrs["cement_G"],
+        "critical_porosity_source": fit.attrs["critical_porosity_source"],
+        "held": [f"{k} ({v['source']})" for k, v in json.loads(fit.attrs["held_json"]).items()],
+        "points": int(one.n_points), "chi2": float(one.chi2),
+        "dof": int(one.dof), "success": bool(one.success),
+        "at_bound": [k for k, f in fitted.items() if f and bool(one.at_bound.sel(parameter=k))],
+    }
+    return write(path, name=name or path.stem, model=fit.attrs["calibration_model"],
+                 parameters=params,
+                 uncertainty={k: float(one.stderr.sel(parameter=k)) for k, f in fitted.items()
+                              if f},
+                 misfit={str(k): float(v) for k, v in zip(one.observed.values,
+                                                           one.misfit.values)},
+                 description=description,
+                 data=fit.attrs["data"] + (f" ({where})" if where else ""),
+                 weights=fit.attrs["weights"],
+                 references=fit.attrs["references"].replace("\n", "; "), record=record)

@@ -1,0 +1,323 @@
+"""md.calibrate: effective-medium parameters fitted to MD-like results and measurements.
+
+The expected values are independent of the fit: synthetic data made by the model itself with
+known parameters (recovered within the reported uncertainty, misfit zero for exact data), the
+Xu 2023 Table 1 fit of rockcem.calibrate.fit_contact_cement, and the closed forms of the cement
+radius.
+"""
+
+import subprocess
+import sys
+import tomllib
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from md.calibrate import MODELS, as_mineral, calibrate, write_calibration
+from rockcem.calibrate import fit_contact_cement, fit_parameters, load_calibration
+from rockcem.elastic import velocities
+from rockcem.granular import cement_radius, contact_cement, patchy_cement
+from rockcem.materials import mineral
+
+GRAIN, HARD = mineral("quartz_garcia_medina"), mineral("hard_cement")
+SAT = np.array([0.0, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2])
+
+
+def md_like(model="contact_cement", n=(5.0, 7.0), phi0=(0.39, 0.386), stress=(0.01, 12.0),
+            scheme=1, noise=0.0, rng=None, **params):
+    """An MD-scene-like Dataset (sample x saturation) whose vp is the model's, with eq. 11-like
+    errors of 5 % and optional relative noise."""
+    vp, porosity, density = [], [], []
+    for ni, p0, s in zip(n, phi0, stress):
+        phi = p0 * (1 - SAT)
+        rho = (1 - p0) * GRAIN.rho + (p0 - phi) * HARD.rho
+        if model == "contact_cement":
+            eta = params.get("cement_efficiency", 1.0)
+            m = contact_cement(GRAIN.K, GRAIN.G, HARD.K, HARD.G, p0 - eta * (p0 - phi), p0, ni,
+                               scheme, params.get("thickness", 0.0))
+        else:
+            m = patchy_cement(GRAIN.K, GRAIN.G, HARD.K, HARD.G, phi, p0, ni, s, p0 - phi,
+                              params.get("contact_cement_limit", 0.05), scheme, 0.0, 1.0,
+                              params.get("delta", 0.0))
+        v = velocities(m.K, m.G, rho).vp
+        if noise:
+            v = v * (1 + noise * rng.standard_normal(v.shape))
+        vp.append(v)
+        porosity.append(phi)
+        density.append(rho)
+    vp = np.array(vp)
+    return xr.Dataset(
+        {"vp": (("sample", "saturation"), vp), "vp_error": (("sample", "saturation"), 0.05 * vp),
+         "porosity": (("sample", "saturation"), np.array(porosity)),
+         "density": (("sample", "saturation"), np.array(density)),
+         "porosity_uncemented": ("sample", list(phi0)),
+         "coordination_number": ("sample", list(n)), "stress": ("sample", list(stress))},
+        coords={"sample": ["loose", "compacted"], "saturation": SAT},
+        attrs={"title": "synthetic MD-like results"})
+
+
+# --- recovery of known parameters ---------------------------------------------------------------
+@pytest.mark.parametrize("scheme", [1, 2])
+def test_recovers_coordination_number_from_exact_data(scheme):
+    data = md_like(scheme=scheme)
+    truth = data.coordination_number.values
+    fit = calibrate(data.drop_vars("coordination_number"), grain=GRAIN, cement=HARD,
+                    scheme=scheme)
+    np.testing.assert_allclose(fit.value.sel(parameter="coordination_number"), truth,
+                               rtol=1e-6)
+    assert float(fit.misfit.max()) < 1e-8 and bool(fit.success.all())
+    assert float(fit.stderr.sel(parameter="coordination_number").max()) < 1e-6
+    # CCT describes cemented contacts: the uncemented point is left out of the fit.
+    assert not fit.used.sel(saturation=0.0).any() and fit.used.sel(saturation=0.1).all()
+    assert int(fit.n_points.sel(sample="loose")) == 6
+
+
+def test_recovers_mcct_thickness_and_efficiency_from_exact_data():
+    data = md_like(thickness=0.03, cement_efficiency=0.4)
+    fit = calibrate(data, free=["thickness", "cement_efficiency"], grain=GRAIN, cement=HARD)
+    np.testing.assert_allclose(fit.value.sel(parameter="thickness"), 0.03, rtol=1e-5)
+    np.testing.assert_allclose(fit.value.sel(parameter="cement_efficiency"), 0.4, rtol=1e-5)
+    # n was held at the data's coordination number and is reported so.
+    np.testing.assert_array_equal(fit.value.sel(parameter="coordination_number"), [5.0, 7.0])
+    assert list(fit.fitted.values) == [False, True, True]
+    assert "coordination_number" in fit.attrs["held_json"]
+
+
+def test_recovers_patchy_cement_within_uncertainty(rng):
+    """Noisy patchy-cement data (1 % relative noise, errors given as 1 %): the fitted n and
+    phi_p0 lie within three standard errors of the truth, and chi2/dof is near 1."""
+    data = md_like("patchy_cement", n=(6.0, 8.0), noise=0.01, rng=rng,
+                   contact_cement_limit=0.03)
+    data["vp_error"] = 0.01 * data.vp
+    fit = calibrate(data, "patchy_cement", free=["coordination_number",
+                                                 "contact_cement_limit"],
+                    grain=GRAIN, cement=HARD, absolute_errors=True)
+    for name, truth in (("coordination_number", [6.0, 8.0]), ("contact_cement_limit", 0.03)):
+        err = np.abs(fit.value.sel(parameter=name) - truth) / fit.stderr.sel(parameter=name)
+        assert float(err.max()) < 3.0, (name, fit.value.sel(parameter=name).values)
+    red = fit.chi2 / fit.dof
+    assert float(red.min()) > 0.1 and float(red.max()) < 4.0
+    # Patchy cement holds Hertz-Mindlin: the uncemented point enters the fit.
+    assert fit.used.all()
+
+
+# --- weights ------------------------------------------------------------------------------------
+def test_weights_discount_a_bad_point():
+    """One corrupted point with a large error bar barely moves the weighted fit; the relative
+    (unweighted) fit is pulled off."""
+    data = md_like()
+    data["vp"][1, 3] *= 1.5
+    data["vp_error"][1, 3] = 100.0
+    weighted = calibrate(data, grain=GRAIN, cement=HARD)
+    plain = calibrate(data, grain=GRAIN, cement=HARD, errors=None)
+    n_w = float(weighted.value.sel(sample="compacted", parameter="coordination_number"))
+    n_p = float(plain.value.sel(sample="compacted", parameter="coordination_number"))
+    assert abs(n_w - 7.0) < 1e-4 < abs(n_p - 7.0)
+    assert "vp_error" in weighted.attrs["weights"] and "relative" in plain.attrs["weights"]
+
+
+def test_weights_scale_of_the_errors(rng):
+    """Scaling all errors by 3 leaves the fit and its scaled error unchanged and multiplies the
+    absolute error by 3 (chi2 by 1/9)."""
+    data = md_like(noise=0.02, rng=rng)
+    a = calibrate(data, grain=GRAIN, cement=HARD, absolute_errors=True)
+    big = data.assign(vp_error=3 * data.vp_error)
+    b = calibrate(big, grain=GRAIN, cement=HARD, absolute_errors=True)
+    c = calibrate(big, grain=GRAIN, cement=HARD)
+    d = calibrate(data, grain=GRAIN, cement=HARD)
+    np.testing.assert_allclose(a.value, b.value, rtol=1e-6)
+    np.testing.assert_allclose(b.stderr, 3 * a.stderr, rtol=1e-4)
+    np.testing.assert_allclose(c.stderr, d.stderr, rtol=1e-4)
+    np.testing.assert_allclose(b.chi2, a.chi2 / 9, rtol=1e-4)
+
+
+def test_fit_parameters_errors_line_fit():
+    """Weighted straight line: the errors of intercept and slope are those of the normal
+    equations, sqrt(diag((X^T W X)^-1)) with absolute errors."""
+    x = np.linspace(1.0, 3.0, 9)
+    sigma = 0.1 * x
+    y = 2.0 + 0.5 * x + np.array([1, -1, 1, -1, 1, -1, 1, -1, 1]) * 0.3 * sigma
+    r = fit_parameters(lambda a, b: {"y": a + b * x}, {"y": y}, {"a": (1.0, -10.0, 10.0),
+                                                                "b": (1.0, -10.0, 10.0)},
+                       errors={"y": sigma}, absolute_errors=True)
+    X = np.stack([np.ones_like(x), x], axis=1) / sigma[:, None]
+    expect = np.linalg.lstsq(X, y / sigma, rcond=None)[0]
+    cov = np.linalg.inv(X.T @ X)
+    assert r.values["a"] == pytest.approx(expect[0], rel=1e-7)
+    assert r.values["b"] == pytest.approx(expect[1], rel=1e-7)
+    assert r.stderr["a"] == pytest.approx(np.sqrt(cov[0, 0]), rel=1e-5)
+    assert r.stderr["b"] == pytest.approx(np.sqrt(cov[1, 1]), rel=1e-5)
+    assert r.dof == 7 and not any(r.at_bound.values())
+
+
+@pytest.mark.parametrize("kw,match", [
+    ({"errors": {"z": np.ones(3)}}, "errors"),
+    ({"errors": {"y": np.zeros(3)}}, "errors"),
+    ({"absolute_errors": True}, "needs errors"),
+])
+def test_fit_parameters_bad_errors(kw, match):
+    with pytest.raises(ValueError, match=match):
+        fit_parameters(lambda a: {"y": a * np.ones(3)}, {"y": np.ones(3)},
+                       {"a": (1.0, 0.0, 2.0)}, **kw)
+
+
+# --- the same routine on measurements -----------------------------------------------------------
+def test_xu2023_table1_same_fit_as_fit_contact_cement():
+    from rockcem._data import data_path
+
+    t = pd.read_csv(data_path("measurements", "xu2023_table1.csv"), comment="#")
+    grain, cement = mineral("quartz_han_guo"), mineral("epoxy_kaolinite")
+    data = xr.Dataset({"vp": ("sample", t.vp.values / 1000), "vs": ("sample", t.vs.values / 1000),
+                       "porosity": ("sample", t.porosity.values),
+                       "density": ("sample", t.density.values)},
+                      attrs={"critical_porosity": 0.4})
+    fit = calibrate(data, free=["thickness"], fixed={"coordination_number": 8.5},
+                    grain=grain, cement=cement, scheme=2)
+    ref = fit_contact_cement(grain, cement, t.porosity, t.density, t.vp / 1000, t.vs / 1000,
+                             scheme=2)
+    assert fit.value.dims == ("parameter",)                    # one joint fit
+    assert float(fit.value.sel(parameter="thickness")) == pytest.approx(
+        ref.values["thickness"], rel=1e-9)
+    assert float(fit.stderr.sel(parameter="thickness")) == pytest.approx(
+        ref.stderr["thickness"], rel=1e-6)
+    for k in ("vp", "vs"):
+        assert float(fit.misfit.sel(observed=k)) == pytest.approx(ref.misfit[k], rel=1e-9)
+    np.testing.assert_allclose(fit.vp_model, ref.predicted["vp"], rtol=1e-12)
+
+
+# --- bonded-contact results (a/R, h/R grids) ----------------------------------------------------
+@pytest.mark.parametrize("scheme", [1, 2])
+@pytest.mark.parametrize("eps", [0.0, 0.03])
+def test_radius_porosity_inverts_cement_radius(scheme, eps):
+    from md.calibrate import _radius_porosity
+
+    alpha = np.linspace(0.05, 0.55, 11)
+    phi = _radius_porosity(alpha, 0.4, 6.0, scheme, eps)
+    np.testing.assert_allclose(cement_radius(phi, 0.4, 6.0, scheme, eps), alpha, rtol=1e-12)
+
+
+def test_bonded_contact_moduli_fit():
+    """A part-1-like Dataset (K, G over a/R x h/R, materials in attributes): n recovered."""
+    alpha = np.array([0.3, 0.4, 0.5, 0.55])
+    eps = np.array([0.01, 0.03, 0.05])
+    A, E = np.meshgrid(alpha, eps, indexing="ij")
+    y = A**2 * (A**2 / 4 + E)                                   # cement_radius inverted, n = 6
+    phi = 0.38 - 0.75 * 6.0 * y * (1 - 0.38)
+    m = contact_cement(GRAIN.K, GRAIN.G, HARD.K, HARD.G, phi, 0.38, 6.0, 1, E)
+    data = xr.Dataset(
+        {"K": (("radius_ratio", "thickness_ratio"), m.K),
+         "G": (("radius_ratio", "thickness_ratio"), m.G),
+         "porosity": 0.38, "coordination_number": 4.0},
+        coords={"radius_ratio": alpha, "thickness_ratio": eps},
+        attrs={"grain_K": GRAIN.K, "grain_G": GRAIN.G, "cement_K": HARD.K, "cement_G": HARD.G})
+    fit = calibrate(data)
+    assert float(fit.value.sel(parameter="coordination_number")) == pytest.approx(6.0, rel=1e-6)
+    assert float(fit.misfit.max()) < 1e-8
+    assert fit.K_model.dims == ("radius_ratio", "thickness_ratio")
+    with pytest.raises(ValueError, match="radius_ratio"):
+        calibrate(data, free=["cement_efficiency"])
+
+
+# --- the Dataset --------------------------------------------------------------------------------
+def test_dataset_layout_and_netcdf_round_trip(tmp_path):
+    data = md_like().expand_dims(cement=["hard"])
+    fit = calibrate(data, free=["coordination_number", "thickness"], grain=GRAIN, cement=HARD)
+    assert fit.value.dims == ("cement", "sample", "parameter")
+    assert fit.covariance.dims == ("cement", "sample", "cov_i", "cov_j")
+    assert list(fit.cov_i.values) == ["coordination_number", "thickness"]
+    assert fit.vp_model.dims == fit.vp.dims == ("cement", "sample", "saturation")
+    assert list(fit.parameter_units.values) == ["1", "1", "1"]
+    assert fit.attrs["calibration_model"] == "contact_cement" and fit.attrs["scheme"] == 1
+    assert fit.attrs["grain_G"] == GRAIN.G and "GarciaMedina2007" in fit.attrs["references"]
+    path = tmp_path / "fit.nc"
+    fit.to_netcdf(path, engine="netcdf4")
+    xr.testing.assert_identical(xr.load_dataset(path, engine="netcdf4"), fit)
+
+
+def test_as_mineral_converts_md_materials():
+    """md's SI materials (Tables I-II of García & Medina) equal the catalogue entries."""
+    from md import HARD_CEMENT, QUARTZ, SOFT_CEMENT
+
+    for md_mat, name in ((QUARTZ, "quartz_garcia_medina"), (HARD_CEMENT, "hard_cement"),
+                         (SOFT_CEMENT, "soft_cement")):
+        got, want = as_mineral(md_mat), mineral(name)
+        assert (got.K, got.G, got.rho) == pytest.approx((want.K, want.G, want.rho), rel=1e-12)
+    with pytest.raises(ValueError, match="grain"):
+        as_mineral(3.0, "grain")
+
+
+def test_import_md_calibrate_is_light():
+    code = ("import sys, md.calibrate; "
+            "print(','.join(m for m in ('rockcem', 'xarray', 'scipy.optimize') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
+
+
+# --- bad input ----------------------------------------------------------------------------------
+BAD = [
+    ({"model": "soft_sand"}, "model"),
+    ({"free": ["coordination"]}, "free parameter 'coordination'"),
+    ({"free": []}, "at least one"),
+    ({"fixed": {"coordination_number": 5.0}}, "fixed parameter"),
+    ({"scheme": 3}, "scheme"),
+    ({"observed": ["vs"]}, "observed"),
+    ({"errors": {"vp": "vp_err"}}, "errors"),
+    ({"each": ["depth"]}, "each"),
+    ({"stiffness": "exact"}, "stiffness"),
+    ({"free": {"coordination_number": (30.0, 2.0, 20.0)}}, "lower"),
+    ({"model": "patchy_cement", "free": ["delta"], "pressure": -1.0}, "pressure"),
+    ({"critical_porosity": 1.5}, "critical_porosity"),
+]
+
+
+@pytest.mark.parametrize("kw,match", BAD)
+def test_bad_input(kw, match):
+    with pytest.raises(ValueError, match=match):
+        calibrate(md_like(), **{"grain": GRAIN, "cement": HARD, **kw})
+
+
+@pytest.mark.parametrize("drop,match", [
+    ("density", "density"), ("porosity", "porosity"),
+    ("porosity_uncemented", "critical_porosity"), ("stress", "pressure"),
+])
+def test_missing_data(drop, match):
+    with pytest.raises(ValueError, match=match):
+        calibrate(md_like().drop_vars(drop), "patchy_cement", free=["delta"], grain=GRAIN,
+                  cement=HARD)
+
+
+def test_missing_materials_and_too_few_points():
+    with pytest.raises(ValueError, match="grain"):
+        calibrate(md_like())
+    one = md_like().isel(saturation=[0, 1])
+    with pytest.raises(ValueError, match="usable points"):
+        calibrate(one, free=["coordination_number", "thickness"], grain=GRAIN, cement=HARD)
+
+
+# --- calibration files --------------------------------------------------------------------------
+def test_write_calibration_round_trip(tmp_path):
+    data = md_like(thickness=0.02)
+    fit = calibrate(data, free=["thickness"], grain=GRAIN, cement=HARD)
+    path = write_calibration(fit, tmp_path / "cal.toml", sample="compacted", description="t")
+    cal = load_calibration(path)
+    assert cal["name"] == "cal" and cal["model"] == "contact_cement"
+    assert cal["parameters"] == {"coordination_number": 7.0,
+                                 "thickness": pytest.approx(0.02, rel=1e-6), "scheme": 1}
+    assert set(cal["uncertainty"]) == {"thickness"} and "vp" in cal["misfit"]
+    assert "sample = compacted" in cal["data"]
+    raw = tomllib.loads(path.read_text())
+    assert raw["fit"]["grain"] == "quartz_garcia_medina" and raw["fit"]["points"] == 6
+    with pytest.raises(ValueError, match="select one fit"):
+        write_calibration(fit, tmp_path / "x.toml")
+    with pytest.raises(ValueError, match="selection"):
+        write_calibration(fit, tmp_path / "x.toml", sample="medium")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cal.toml"]
+
+
+def test_models_table_is_consistent():
+    for model, table in MODELS.items():
+        for name, (default, start, lo, hi, _unit, _doc) in table.items():
+            assert lo <= default <= hi and lo <= start <= hi, (model, name)
