@@ -2,7 +2,9 @@
 :math:`c_w = R/\\Omega` classified as contact, surface or body cells of the pore space.
 
 SI units. Only pore cells are stored (compactly: int32 indices, int8 classes, float32 distances),
-since they are the only ones cement can fill.
+since they are the only ones cement can fill. :func:`grow_cement` fills them by the contact,
+coating and pore-body schemes of Sects. III C–E (numba kernels in :mod:`md._kernels_cement`,
+O(n log n) in the number of pore cells).
 """
 
 from __future__ import annotations
@@ -242,21 +244,130 @@ def cement_lattice(pack: Pack, resolution=4.0, *, reach=None) -> CementLattice:
     return CementLattice(cw, (nx, ny, nz), z0, pore, kind, dist[pore].astype(np.float32))
 
 
-def _neighbour_map(lat: CementLattice):
-    """Flat-cell -> pore position (-1 for solid) and the 6 face neighbours of each pore cell."""
-    nx, ny, nz = lat.shape
-    where = np.full(nx * ny * nz, -1, dtype=np.int64)
-    where[lat.index] = np.arange(lat.index.size)
-    i = lat.index % nx
-    j = (lat.index // nx) % ny
-    k = lat.index // (nx * ny)
-    nbrs = []
-    for di, dj, dk in ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)):
-        kk = k + dk
-        ok = (kk >= 0) & (kk < nz)
-        flat = ((i + di) % nx) + nx * (((j + dj) % ny) + ny * np.clip(kk, 0, nz - 1))
-        nbrs.append(np.where(ok, where[flat], -1))
-    return np.stack(nbrs, axis=1)
+#: Uniforms drawn from the growth stream per call of the pore-body kernel (the result does not
+#: depend on it: the kernel uses the stream in order and hands back what it did not use).
+_PORE_BODY_CHUNK = 1 << 16
+
+#: Smallest weight of a frontier cell in the pore-body scheme (cells at zero distance keep a
+#: tiny chance of being picked, and the frontier's total weight stays > 0).
+_WEIGHT_FLOOR = 1e-12
+
+#: Children per node of the pore-body sum tree (8 float64: one cache line).
+_TREE_FANOUT = 8
+
+
+def _neighbour_map(lat: CementLattice) -> np.ndarray:
+    """The 6 face neighbours of each pore cell as pore positions, shape (n, 6), int32.
+
+    Columns +x, -x, +y, -y, +z, -z (periodic in x and y); -1 for a solid cell or beyond the
+    bottom and top layers. One numba pass, O(n) (plus a scratch int32 array over the whole
+    lattice).
+    """
+    from ._kernels_cement import face_neighbours
+
+    nx, ny, nz = (int(s) for s in lat.shape)
+    index = np.ascontiguousarray(lat.index, dtype=np.int32)
+    where = np.empty(nx * ny * nz, dtype=np.int32)
+    nbrs = np.empty((index.size, 6), dtype=np.int32)
+    face_neighbours(index, nx, ny, nz, where, nbrs)
+    return nbrs
+
+
+def _distance_levels(distance) -> np.ndarray:
+    """uint32 levels with the order of ``distance``: equal distances, equal levels.
+
+    float32 distances (as :func:`cement_lattice` stores them) map bit for bit (O(n)); other
+    dtypes by rank (``np.unique``, O(n log n)).
+    """
+    from ._kernels_cement import float32_levels
+
+    levels = np.empty(distance.size, dtype=np.uint32)
+    if distance.dtype == np.float32:
+        bits = np.ascontiguousarray(distance + np.float32(0.0)).view(np.uint32)   # -0.0 -> +0.0
+        float32_levels(bits, levels)
+    else:
+        levels[:] = np.unique(distance, return_inverse=True)[1].reshape(-1)
+    return levels
+
+
+def _order_keys(levels) -> np.ndarray:
+    """uint64 keys ``level << 32 | cell``: their order is that of (distance, cell index)."""
+    from ._kernels_cement import order_keys
+
+    keys = np.empty(levels.size, dtype=np.uint64)
+    order_keys(levels, keys)
+    return keys
+
+
+def _pore_body_streams(seed):
+    """The three independent numpy Generators of the pore-body scheme: seeds, growth, restarts
+    (``SeedSequence(seed).spawn(3)``)."""
+    return tuple(np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(3))
+
+
+def _grow_contact(lat: CementLattice, target: int, cemented: np.ndarray) -> None:
+    from ._kernels_cement import CEMENTED, contact_growth
+
+    n = lat.index.size
+    levels = _distance_levels(lat.distance)
+    sorted_keys = np.sort(_order_keys(levels))
+    nbrs = _neighbour_map(lat)
+    kind = np.ascontiguousarray(lat.kind)
+    cells = np.zeros(n, dtype=np.uint8)
+    count = contact_growth(levels, kind, nbrs, sorted_keys, target, CONTACT, cells,
+                           np.empty(n, dtype=np.uint64))
+    if count != target:
+        raise RuntimeError(f"contact growth stopped at {count} of {target} cells")
+    np.equal(cells, CEMENTED, out=cemented)
+
+
+def _sum_tree(n: int, fanout: int):
+    """Zeroed storage of the pore-body sum tree over ``n`` cells: the flat float64 array and
+    the offset of each level (level 0, the cell weights, at 0; the top level is one group of
+    ``fanout`` entries). See :mod:`md._kernels_cement`."""
+    offsets = []
+    total = 0
+    m = max(int(n), 1)
+    while True:
+        padded = -(-m // fanout) * fanout
+        offsets.append(total)
+        total += padded
+        if m <= fanout:
+            break
+        m = padded // fanout
+    return np.zeros(total), np.array(offsets, dtype=np.int64)
+
+
+def _grow_pore_body(lat: CementLattice, target: int, seed: int, cemented: np.ndarray) -> None:
+    from ._kernels_cement import CEMENTED, pore_body_growth, pore_body_start
+
+    n = lat.index.size
+    seeds_rng, growth_rng, restart_rng = _pore_body_streams(seed)
+    surface = np.flatnonzero(lat.kind == SURFACE)
+    n_seeds = max(1, min(target, surface.size // 50 + 1))
+    seeds = seeds_rng.permutation(surface if surface.size else n)[:n_seeds]
+    dist = np.ascontiguousarray(lat.distance)
+    nbrs = _neighbour_map(lat)
+    cells = np.zeros(n, dtype=np.uint8)
+    tree, offsets = _sum_tree(n, _TREE_FANOUT)
+    n_front = pore_body_start(dist, nbrs, seeds, cells, tree, offsets, _TREE_FANOUT,
+                              _WEIGHT_FLOOR)
+    state = np.array([n_seeds, n_front, 0, 0], dtype=np.int64)
+    restart = np.zeros(0, dtype=np.int64)
+    uniforms = np.zeros(0)
+    while True:
+        status = pore_body_growth(dist, nbrs, cells, tree, offsets, _TREE_FANOUT,
+                                  _WEIGHT_FLOOR, target, uniforms, restart, state)
+        if status == 0:
+            break
+        if status == 2:                        # frontier empty: the restart permutation, once
+            restart = restart_rng.permutation(n)
+            uniforms = uniforms[state[3]:]
+        else:
+            uniforms = growth_rng.random(min(_PORE_BODY_CHUNK, max(target - int(state[0]), 1)))
+    if state[0] != target:
+        raise RuntimeError(f"pore-body growth stopped at {state[0]} of {target} cells")
+    np.equal(cells, CEMENTED, out=cemented)
 
 
 def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> np.ndarray:
@@ -264,82 +375,74 @@ def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> 
 
     Schemes (García & Medina, Sects. III C–E):
 
-    * ``"contact"``: the contact cells first (closest to the grains first), then growth into the
-      empty face neighbours of the cement, always the one closest to a grain surface next;
-    * ``"coating"``: cells by increasing distance to the grain surface (an even coat);
-    * ``"pore_body"``: random surface cells as seeds, then growth into empty face neighbours of
-      the cement chosen at random with probability proportional to their distance to the grains
-      (cement grows into pore bodies). Reproducible with ``seed``.
+    * ``"contact"`` (Sect. III C): the contact cells first (closest to the grains first), then
+      growth into the empty face neighbours of the cement, always the one closest to a grain
+      surface next; when none is left (pores not connected to the cement), the empty cell
+      closest to a grain seeds the growth again;
+    * ``"coating"`` (Sect. III D): cells by increasing distance to the grain surface (an even
+      coat);
+    * ``"pore_body"`` (Sect. III E): ``max(1, min(N, n_surface // 50 + 1))`` random surface
+      cells as seeds (``N = round(S_c n)``; any cells if there are no surface cells), then
+      growth into empty face neighbours of the cement chosen at random with probability
+      proportional to their distance to the grains, ``max(d, 1e-12 m)`` (cement grows into pore
+      bodies); when none is left, a random empty cell seeds the growth again.
+
+    Ties in distance are broken by the cell's position in ``lat.index`` (smaller first), so the
+    contact and coating schemes are deterministic. All three are nested: for a fixed ``seed``,
+    the cells cemented at :math:`S_{c1} < S_{c2}` are a subset of those at :math:`S_{c2}`
+    (pore body too, since the seeds are a prefix of one random permutation and the growth
+    uses one random stream in order).
+
+    Cost: O(n log n) for n pore cells; the contact scheme keeps a binary heap of the empty
+    face neighbours of the cement, keyed on (distance, cell index); the pore-body scheme a sum
+    tree over all cells (weight ``max(d, 1e-12)`` in the frontier, 0 elsewhere), O(log n) per
+    pick (numba kernels in :mod:`md._kernels_cement`).
+
+    Randomness (pore body only): ``numpy.random.SeedSequence(seed).spawn(3)`` gives three
+    independent ``numpy.random.Generator`` streams: the seeds (the first of a random
+    permutation of the surface cells), the growth (one uniform per pick, drawn in chunks and
+    used in order) and the restarts (a random permutation of all cells, drawn only if the
+    frontier empties; the next empty cell in it is a uniform choice among the empty cells).
+    The result depends on ``seed`` only (not on the chunk size). This stream differs from the
+    one of versions before the numba kernels (``rng.choice`` on one Generator), so pore-body
+    cells for a given seed differ from those versions; the distribution is the same.
 
     Parameters
     ----------
     lat : CementLattice
+        Its ``distance`` must be finite.
     saturation : float
         :math:`S_c`, in [0, 1].
     scheme : {"contact", "coating", "pore_body"}
     seed : int, keyword-only
-        Random seed of the pore-body scheme.
+        Random seed of the pore-body scheme, ``>= 0``.
 
     Returns
     -------
     ndarray of bool
         Cemented pore cells (aligned with ``lat.index``); ``round(S_c n)`` of them.
     """
-    import heapq
-
     if not 0.0 <= saturation <= 1.0:
         raise ValueError(f"saturation must lie in [0, 1]; got {saturation}")
     if scheme not in ("contact", "coating", "pore_body"):
         raise ValueError(f"scheme must be 'contact', 'coating' or 'pore_body'; got {scheme!r}")
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
     n = lat.index.size
     target = int(round(saturation * n))
     cemented = np.zeros(n, dtype=bool)
     if target == 0:
         return cemented
-    dist = lat.distance.astype(float)
+    if not np.all(np.isfinite(lat.distance)):
+        raise ValueError("lat.distance must be finite (distances to the grain surfaces, m)")
     if scheme == "coating":
-        order = np.lexsort((np.arange(n), dist))
-        cemented[order[:target]] = True
-        return cemented
-    nbrs = _neighbour_map(lat)
-    if scheme == "contact":
-        contact = np.flatnonzero(lat.kind == CONTACT)
-        first = contact[np.lexsort((contact, dist[contact]))][:target]
-        cemented[first] = True
-        count = first.size
-        heap = [(dist[c], int(c)) for c in np.unique(nbrs[first].ravel()) if c >= 0
-                and not cemented[c]]
-        heapq.heapify(heap)
-        while count < target:
-            if not heap:                           # disconnected pores: seed the closest left
-                rest = np.flatnonzero(~cemented)
-                heap = [(dist[rest[np.argmin(dist[rest])]], int(rest[np.argmin(dist[rest])]))]
-            _, c = heapq.heappop(heap)
-            if cemented[c]:
-                continue
-            cemented[c] = True
-            count += 1
-            for nb in nbrs[c]:
-                if nb >= 0 and not cemented[nb]:
-                    heapq.heappush(heap, (dist[nb], int(nb)))
-        return cemented
-    # Pore body: random surface seeds, then distance-weighted random growth.
-    rng = np.random.default_rng(seed)
-    surface = np.flatnonzero(lat.kind == SURFACE)
-    n_seeds = max(1, min(target, surface.size // 50 + 1))
-    seeds = rng.choice(surface if surface.size else np.arange(n), size=n_seeds, replace=False)
-    cemented[seeds] = True
-    count = n_seeds
-    frontier = {int(c) for c in nbrs[seeds].ravel() if c >= 0 and not cemented[c]}
-    while count < target:
-        if not frontier:
-            rest = np.flatnonzero(~cemented)
-            frontier = {int(rng.choice(rest))}
-        cand = np.fromiter(frontier, dtype=np.int64)
-        w = np.maximum(dist[cand], 1e-12)
-        c = int(cand[rng.choice(cand.size, p=w / w.sum())])
-        frontier.discard(c)
-        cemented[c] = True
-        count += 1
-        frontier.update(int(nb) for nb in nbrs[c] if nb >= 0 and not cemented[nb])
+        if target == n:
+            cemented[:] = True
+        else:
+            keys = np.partition(_order_keys(_distance_levels(lat.distance)), target - 1)
+            cemented[(keys[:target] & np.uint64(0xFFFFFFFF)).astype(np.intp)] = True
+    elif scheme == "contact":
+        _grow_contact(lat, target, cemented)
+    else:
+        _grow_pore_body(lat, target, int(seed), cemented)
     return cemented
