@@ -11,6 +11,10 @@ spheroids of aspect ratio 0.108), vectorised over all points, with a per-point b
 the same two equations (eq. 8 of Carcione et al. 2022) with ``scipy.optimize.root`` (hybr), on the
 same ``--baseline-n`` points (default 2000) sampled evenly along the profile. It reports the speed
 ratio and the largest relative difference of K and G. Target: vectorised at least 100x faster.
+``self_consistent`` takes its numpy path below 5·10^4 points and its numba kernel from there on
+(``rockcem.inclusions._NUMBA_MIN_POINTS``): the 2000-point run is the numpy path, the
+``--throughput-n`` run (default 10^5) and Model 2 over 10^6 points the kernel; the kernel is
+also timed and checked against scipy on the 2000 baseline points (``sc_solver_numba_kernel``).
 
 Run: ``python benchmarks/bench_models.py [--n N] [--repeat K] [--baseline-n M]``.
 Output: ``benchmarks/results/bench_models.{csv,nc,png}``.
@@ -138,6 +142,22 @@ def main(argv=None):
     dG = _common.relative_difference(m_vec.G, G_b)
     speedup = best_b / best_v
 
+    # The same points through the numba kernel, which self_consistent takes only from
+    # inclusions._NUMBA_MIN_POINTS points on (set to 0 here for this one case).
+    from rockcem import inclusions
+
+    saved, inclusions._NUMBA_MIN_POINTS = inclusions._NUMBA_MIN_POINTS, 0
+    try:
+        best_n, times_n, m_num, warns_n = _common.best_of(
+            lambda: self_consistent(K, G, frac, aspect), max(args.repeat, 5),
+            budget_s=args.budget)
+    finally:
+        inclusions._NUMBA_MIN_POINTS = saved
+    dK_n = _common.relative_difference(m_num.K, K_b)
+    dG_n = _common.relative_difference(m_num.G, G_b)
+    record("sc_solver_numba_kernel", "sc_solver", idx.size, best_n, times_n, warns_n, tol=1e-12,
+           note=f"max rel. diff vs scipy: K {dK_n.max():.3g}, G {dG_n.max():.3g}")
+
     # The same solver at a size where the per-call overhead no longer dominates.
     n_t = min(args.throughput_n, args.n)
     idx_t = np.unique(np.linspace(0, args.n - 1, n_t).round().astype(int))
@@ -155,6 +175,9 @@ def main(argv=None):
           f"per-point cost ratio at {idx_t.size} points: {speedup_per_point:.0f}x")
     print(f"max relative difference vectorised vs scipy: K {dK.max():.3g}, G {dG.max():.3g}; "
           f"scipy converged at {int(ok_b.sum())}/{ok_b.size} points")
+    print(f"numba kernel on the same {idx.size} points: {best_n * 1e3:.2f} ms "
+          f"({best_b / best_n:.0f}x the per-point scipy baseline), max relative difference vs "
+          f"scipy: K {dK_n.max():.3g}, G {dG_n.max():.3g}")
     for r in rows:
         if r["kind"] == "model" and np.isfinite(r["best_s"]):
             t1e6 = r["best_s"] * 1e6 / r["n_points"]
@@ -174,6 +197,8 @@ def main(argv=None):
         sc_speedup=speedup, sc_speedup_per_point_at_throughput_n=speedup_per_point,
         sc_baseline_points=int(idx.size), sc_throughput_points=int(idx_t.size),
         sc_max_rel_diff_K=float(dK.max()), sc_max_rel_diff_G=float(dG.max()),
+        sc_numba_speedup=best_b / best_n,
+        sc_numba_max_rel_diff_K=float(dK_n.max()), sc_numba_max_rel_diff_G=float(dG_n.max()),
         sc_baseline_converged=int(ok_b.sum()), sc_baseline_mean_nfev=float(nfev_b.mean()),
         self_consistent_model_failures="; ".join(sc_failures),
         target_model_s_per_1e6=TARGET_MODEL_S, target_sc_speedup=TARGET_SC_SPEEDUP,

@@ -23,12 +23,17 @@ _GL_S = 0.5 * (_GL_X + 1.0)
 _GL_W = 0.5 * _GL_W
 _NEAR_SPHERE = 0.1
 _BLOCK = 4096
+_H = 1e-30            # relative complex step of the numpy path's Jacobian
+# From this many points on, self_consistent solves with the numba kernel of rockcem._sc_kernels
+# (imported then, at call time: about 1 s to import and start numba once per process); fewer
+# points take the numpy path.
+_NUMBA_MIN_POINTS = 50_000
 
 
 class SolverInfo(NamedTuple):
     """Convergence record of an iterative solve (``full_output=True``)."""
 
-    iterations: np.ndarray     #: Newton iterations taken, per point
+    iterations: np.ndarray     #: Newton iterations taken, per point (both starts, if two)
     residual: np.ndarray       #: final relative residual, per point
     converged: np.ndarray      #: bool, per point
 
@@ -101,6 +106,45 @@ def _pq_spheroid(K_m, G_m, K_i, G_i, theta, f):
     return P, Q
 
 
+def _spheroid_coefficients(theta, f):
+    r"""Berryman's :math:`F_1 \dots F_9` as polynomials in :math:`A, B, R`: their coefficients.
+
+    With :math:`c = 3 - 4R` and :math:`u = Bc`, the functions of :func:`_pq_spheroid`
+    ([Berryman1980]_, Appendix; [Mavko2009]_ p. 189) are
+
+    .. math::
+
+        F_j = d_j + A\,(p_j + q_j R) + w_j u \quad (j \ne 2), \qquad
+        F_2 = 1 + A\,(p_2 + q_2 R) + u + \tfrac12 A (A + 3B)\, c\, (s_2 + t_2 R),
+
+    with :math:`d_j = 1` (:math:`F_1, F_3, F_4, F_6`), 2 (:math:`F_7`) or 0 (:math:`F_5, F_8,
+    F_9`), :math:`w_j = 0` (:math:`F_1, F_3, F_4`), :math:`\theta` (:math:`F_5, F_7, F_9`) or
+    :math:`1 - \theta` (:math:`F_6, F_8`), and :math:`p_j, q_j, s_2, t_2` depending on the
+    aspect ratio alone (through :math:`\theta, f`). The numba kernel of
+    :func:`self_consistent` evaluates P, Q and their exact derivatives in this form.
+
+    Returns
+    -------
+    ndarray, shape (..., 21)
+        ``p1, q1, p2, q2, s2, t2, p3, q3, p4, q4, ..., p9, q9, theta``.
+    """
+    th = np.asarray(theta, dtype=float)
+    f = np.asarray(f, dtype=float)
+    ft = f + th
+    cols = [1.5 * ft, 4.0 / 3.0 - 1.5 * f - 2.5 * th,              # F1
+            1.0 + 1.5 * ft, -0.5 * (3.0 * f + 5.0 * th),           # F2
+            ft, th - f - 2.0 * th**2,                              # F2: s2, t2
+            1.0 - f - 1.5 * th, ft,                                # F3
+            0.25 * (f + 3.0 * th), 0.25 * (th - f),                # F4
+            -f, ft - 4.0 / 3.0,                                    # F5
+            1.0 + f, -ft,                                          # F6
+            0.25 * (3.0 * f + 9.0 * th), -0.25 * (3.0 * f + 5.0 * th),  # F7
+            1.0 - 0.5 * f - 1.5 * th, 0.5 * f + 2.5 * th - 2.0,    # F8
+            -f, f - th,                                            # F9
+            th]
+    return np.stack(np.broadcast_arrays(*cols), axis=-1)
+
+
 def _pq(K_m, G_m, K_i, G_i, theta, f, sphere):
     """P and Q without input checks; all arrays broadcast; ``G_m > 0``."""
     Ps, Qs = _pq_sphere(K_m, G_m, K_i, G_i)
@@ -170,8 +214,8 @@ def _residual(K, G, K_i, G_i, frac, theta, f, sphere, columns):
     if columns is None:
         P, Q = _pq(Km, Gm, K_i, G_i, theta, f, sphere)
         return (np.sum(frac * (K_i - Km) * P, axis=-1), np.sum(frac * (G_i - Gm) * Q, axis=-1))
-    r1 = np.zeros(K.shape)
-    r2 = np.zeros(K.shape)
+    r1 = np.zeros(K.shape, dtype=np.result_type(K, G))     # complex for complex steps
+    r2 = np.zeros(K.shape, dtype=r1.dtype)
     for cols, spheres in zip(columns, (True, False)):
         if cols.size == 0:
             continue
@@ -184,7 +228,15 @@ def _residual(K, G, K_i, G_i, frac, theta, f, sphere, columns):
 
 
 def _solve(K_i, G_i, fr, theta, f, sphere, columns, tol, max_iter):
-    """Solve eq. 8 at the points (rows) of one block; returns K, G, iterations, residual, done."""
+    r"""Solve eq. 8 at the points (rows) of one block; returns K, G, iterations, residual, done.
+
+    The numpy path: Newton's method on all points of the block at once, with the Jacobian by
+    complex steps ([SquireTrapp1998]_: for a function analytic in ``x``,
+    :math:`\partial_x r = \operatorname{Im} r(x + ih)/h` with no cancellation, here
+    :math:`h = 10^{-30} x`) through the P, Q of :func:`_pq`; the same start, damping and tests as
+    the numba kernel (``rockcem._sc_kernels``), which differs in its form of P, Q and their
+    derivatives and in its continuation starts.
+    """
     hs = hashin_shtrikman(K_i, G_i, fr)
     Kr = reuss(K_i, G_i, fr).K
     npts = K_i.shape[0]
@@ -204,36 +256,17 @@ def _solve(K_i, G_i, fr, theta, f, sphere, columns, tol, max_iter):
     K_up, G_up, K_reuss = Ke[idx], Ge[idx], Kr[idx]
     inputs = [K_i[idx], G_i[idx], fr[idx], theta[idx], f[idx], sphere[idx]]
     scale = max_phases(inputs[0])
-    # Jacobian of each point: finite differences at its first step and wherever the residual
-    # grew; otherwise Broyden's rank-one update from the step taken (one evaluation per step).
-    j11, j12, j21, j22, r1p, r2p, dk, dg = (np.zeros(idx.size) for _ in range(8))
-    relp = np.full(idx.size, np.inf)
     for it in range(1, int(max_iter) + 1):
         if idx.size == 0:
             break
-        r1, r2 = _residual(k, g, *inputs, columns)
+        # Residual and Jacobian by complex steps (P, Q are rational in K, G): the real parts
+        # are the residuals, the imaginary parts / h the derivatives, exact to round-off.
+        a1, a2 = _residual(k + 1j * _H * k, g, *inputs, columns)
+        b1, b2 = _residual(k, g + 1j * _H * g, *inputs, columns)
+        r1, r2 = a1.real, a2.real
+        j11, j21 = a1.imag / (_H * k), a2.imag / (_H * k)
+        j12, j22 = b1.imag / (_H * g), b2.imag / (_H * g)
         rel = np.abs(r1) / k + np.abs(r2) / g
-        if it > 1:
-            # Broyden's update in the relative variables (dk/k, dg/g), which have equal scale.
-            xk, xg = dk / k, dg / g
-            norm = np.maximum(xk * xk + xg * xg, 1e-300)
-            c1 = (r1 - r1p - (j11 * k * xk + j12 * g * xg)) / norm
-            c2 = (r2 - r2p - (j21 * k * xk + j22 * g * xg)) / norm
-            j11, j12 = j11 + c1 * xk / k, j12 + c1 * xg / g
-            j21, j22 = j21 + c2 * xk / k, j22 + c2 * xg / g
-            fresh = np.flatnonzero(rel >= relp)
-        else:
-            fresh = np.arange(idx.size)
-        if fresh.size:
-            sub = [a[fresh] for a in inputs]
-            kf, gf = k[fresh], g[fresh]
-            hk, hg = 1e-7 * kf, 1e-7 * gf
-            a1, a2 = _residual(kf + hk, gf, *sub, columns)
-            b1, b2 = _residual(kf, gf + hg, *sub, columns)
-            j11[fresh] = (a1 - r1[fresh]) / hk
-            j21[fresh] = (a2 - r2[fresh]) / hk
-            j12[fresh] = (b1 - r1[fresh]) / hg
-            j22[fresh] = (b2 - r2[fresh]) / hg
         det = j11 * j22 - j12 * j21
         det = np.where(det == 0.0, np.finfo(float).tiny, det)
         # Damping: keep both moduli positive (at most a tenfold drop per step) and below the
@@ -246,11 +279,9 @@ def _solve(K_i, G_i, fr, theta, f, sphere, columns, tol, max_iter):
         # mu = 0 with K the Reuss average.
         conv = ((step < tol) & (rel < tol)) | (rel < 64.0 * np.finfo(float).eps)
         collapse = g_new < 1e-12 * scale
-        k_new = np.where(collapse, K_reuss, k_new)
-        g_new = np.where(collapse, 0.0, g_new)
+        k = np.where(collapse, K_reuss, k_new)
+        g = np.where(collapse, 0.0, g_new)
         rel = np.where(collapse, 0.0, rel)
-        dk, dg, r1p, r2p, relp = k_new - k, g_new - g, r1, r2, rel
-        k, g = k_new, g_new
         finished = conv | collapse
         if np.any(finished) or it == int(max_iter):
             out = finished if it < int(max_iter) else slice(None)
@@ -261,9 +292,29 @@ def _solve(K_i, G_i, fr, theta, f, sphere, columns, tol, max_iter):
             idx, k, g, K_up, G_up, K_reuss, scale = (a[keep] for a in (idx, k, g, K_up, G_up,
                                                                          K_reuss, scale))
             inputs = [a[keep] for a in inputs]
-            j11, j12, j21, j22, r1p, r2p, relp, dk, dg = (
-                a[keep] for a in (j11, j12, j21, j22, r1p, r2p, relp, dk, dg))
     return Ke, Ge, iterations, residual, done
+
+
+def _solve_numba(K_i, G_i, fr, kind, coef, tol, max_iter):
+    """Solve eq. 8 with the compiled kernel; None where numba cannot be imported."""
+    try:
+        from . import _sc_kernels
+    except ImportError:
+        return None
+    npts = K_i.shape[0]
+    out = (np.empty(npts), np.empty(npts), np.empty(npts, dtype=np.int64), np.empty(npts),
+           np.empty(npts, dtype=np.bool_))
+    _sc_kernels.solve_points(*map(_read_only, (K_i, G_i, fr, kind, coef)), float(tol),
+                             int(max_iter), True, *out)
+    return out
+
+
+def _read_only(a):
+    """A read-only view (as the kernel's signature wants; views of ``np.broadcast_arrays``
+    results would otherwise warn when numba asks whether they are writeable)."""
+    v = a.view()
+    v.flags.writeable = False
+    return v
 
 
 def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=200,
@@ -277,15 +328,28 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
         \sum_{i=1}^n \phi_i (K_i - K) P_i = 0, \qquad \sum_{i=1}^n \phi_i (\mu_i - \mu) Q_i = 0
 
     for the effective :math:`(K, \mu)`, with P and Q of :func:`berryman_pq` evaluated in the
-    effective medium ([Berryman1980]_). The solver is a vectorised Newton iteration on all points
-    together (finite-difference Jacobian at the first step, Broyden updates after), started from
-    the Hashin–Shtrikman upper bound and damped so that :math:`\mu` never drops by more than a
-    factor 10 per step. Where the shear
-    modulus of the composite vanishes (fluid-supported suspensions, crack densities beyond
-    percolation) the iteration drives :math:`\mu \to 0`; below :math:`10^{-12} \max_i K_i` the
-    point is set
-    to its exact limit (:math:`\mu = 0`, :math:`K` = Reuss average, since any inclusion in a fluid
-    is under hydrostatic stress).
+    effective medium ([Berryman1980]_). Every point is solved by Newton's method with the exact
+    Jacobian, started from the Hashin–Shtrikman upper bound and damped so that :math:`\mu` never
+    drops by more than a factor 10 per step and neither modulus exceeds its upper bound. Where
+    the shear modulus of the composite vanishes (fluid-supported suspensions, crack densities
+    beyond percolation) the iteration drives :math:`\mu \to 0`; below
+    :math:`10^{-12} \max_i K_i` the point is set to its exact limit (:math:`\mu = 0`, :math:`K`
+    = Reuss average, since any inclusion in a fluid is under hydrostatic stress).
+
+    Two implementations of that iteration, with the same start, damping and tests:
+
+    * below 5·10^4 points, numpy: all points of a block together, the Jacobian by complex steps
+      ([SquireTrapp1998]_) through the P, Q of :func:`berryman_pq`;
+    * from 5·10^4 points on, a numba kernel (``rockcem._sc_kernels``; numba is imported at the
+      first such call of a process, which costs about 1 s): P, Q of each spheroid as rational
+      functions of :math:`(K, \mu)` whose coefficients depend on its aspect ratio alone
+      (``_spheroid_coefficients``), differentiated exactly, and continuation: a point with the
+      phases of the point before it and fractions within 0.05 of them starts from the solutions
+      at up to three points before it, extrapolated along the fractions, and falls back to the
+      bound if that has not converged in 10 iterations or ends in shear collapse. Along an
+      ordered depth profile most points then converge in one iteration.
+
+    The results of the two, and of any order of the points, agree to about ``tol``.
 
     Parameters
     ----------
@@ -300,9 +364,10 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
         relative residual are below ``tol``, or when the residual is at round-off level
         (:math:`64\,\epsilon`); default 1e-12.
     max_iter : int, optional
-        Iterations allowed before :class:`RuntimeError`; default 200. Typical rock states
-        converge in 5–15; compositions at the shear-percolation threshold (fluid fraction near
-        0.6 with spheroids) take up to about 150 as the shear modulus decays to zero.
+        Iterations allowed from the bound before :class:`RuntimeError`; default 200. Typical
+        rock states converge in 5–8 from the bound (1–2 from a continuation start); shear
+        collapse and compositions near the shear-percolation threshold take 10–30 as the shear
+        modulus decays to zero.
     full_output : bool, optional
         Also return a :class:`SolverInfo` with iterations and residuals per point.
 
@@ -334,30 +399,47 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
         raise ValueError(f"tol must be > 0; got {tol:g}")
     if int(max_iter) < 1:
         raise ValueError(f"max_iter must be >= 1; got {max_iter}")
+    return _self_consistent(K, G, frac, a, tol, int(max_iter), full_output)
+
+
+def _self_consistent(K, G, frac, a, tol=1e-12, max_iter=200, full_output=False):
+    """:func:`self_consistent` on checked float arrays (not yet broadcast)."""
+    a_given = a
     K, G, frac, a = broadcast(K=K, G=G, fractions=frac, aspect_ratio=a)
     shape = K.shape[:-1]
     n = K.shape[-1]
     K_i = K.reshape(-1, n)
     G_i = G.reshape(-1, n)
     fr = frac.reshape(-1, n)
-    aa = a.reshape(-1, n)
-    # Shape factors depend on the aspect ratio alone: evaluate them once per distinct value.
-    uniq, inverse = np.unique(aa, return_inverse=True)
-    th_u, f_u = _theta_f(uniq)
-    theta, f = th_u[inverse].reshape(aa.shape), f_u[inverse].reshape(aa.shape)
-    sphere = aa == 1.0
-    columns = None
-    if np.all(sphere == sphere[:1]):
-        columns = (np.flatnonzero(sphere[0]), np.flatnonzero(~sphere[0]))
-
-    # Solve in blocks of a few thousand points: the temporaries of the Newton step then stay
-    # in cache (about twice as fast as whole-array passes for 10^5 points and more).
     npts = K_i.shape[0]
-    parts = [_solve(K_i[b:b + _BLOCK], G_i[b:b + _BLOCK], fr[b:b + _BLOCK], theta[b:b + _BLOCK],
-                    f[b:b + _BLOCK], sphere[b:b + _BLOCK], columns, tol, max_iter)
-             for b in range(0, npts, _BLOCK)]
-    Ke, Ge, iterations, residual, done = (np.concatenate([p[k] for p in parts])
-                                          for k in range(5))
+    # Shape factors depend on the aspect ratio alone: evaluate them once per distinct value, found
+    # among the aspect ratios as given (before broadcasting, usually one per phase).
+    uniq, inverse = np.unique(a_given, return_inverse=True)
+    th_u, f_u = _theta_f(uniq)
+    # kind: -1 for a sphere (closed-form P, Q), else the index of the aspect ratio in uniq.
+    kind_given = np.where(uniq == 1.0, -1, np.arange(uniq.size, dtype=np.int64))[inverse]
+    kind_given = kind_given.reshape(a_given.shape)
+    kind = np.broadcast_to(kind_given, a.shape).reshape(-1, n)
+
+    solved = None
+    if npts >= _NUMBA_MIN_POINTS:
+        solved = _solve_numba(K_i, G_i, fr, kind, _spheroid_coefficients(th_u, f_u), tol,
+                              max_iter)
+    if solved is None:
+        pick = np.maximum(kind, 0)
+        theta, f = th_u[pick], f_u[pick]
+        sphere = kind < 0
+        columns = None
+        if np.all(sphere == sphere[:1]):
+            columns = (np.flatnonzero(sphere[0]), np.flatnonzero(~sphere[0]))
+        # Solve in blocks of a few thousand points: the temporaries of the Newton step then
+        # stay in cache (about twice as fast as whole-array passes for 10^5 points and more).
+        parts = [_solve(K_i[b:b + _BLOCK], G_i[b:b + _BLOCK], fr[b:b + _BLOCK],
+                        theta[b:b + _BLOCK], f[b:b + _BLOCK], sphere[b:b + _BLOCK], columns, tol,
+                        max_iter)
+                 for b in range(0, npts, _BLOCK)]
+        solved = (np.concatenate([p[k] for p in parts]) for k in range(5))
+    Ke, Ge, iterations, residual, done = solved
     if not np.all(done):
         bad = np.flatnonzero(~done)
         raise RuntimeError(

@@ -24,14 +24,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import (as_array, broadcast, check_fractions, check_range, stack_phases,
-                          sum_phases)
+from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+                          stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
 from .granular import patchy_cement
-from .inclusions import self_consistent
+from .inclusions import _self_consistent
 from .materials import Fluid, Mineral
 
 __all__ = [
@@ -155,7 +155,8 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     The solids are spheres and the pores spheroids of the given aspect ratio, in volume
     proportions :math:`(1-\phi)\beta_i` and :math:`\phi`. With the pore fluid in the pores the
     result is the (high-frequency, unrelaxed) saturated rock; the dry moduli are the same
-    scheme with empty pores.
+    scheme with empty pores. Both solves are :func:`rockcem.inclusions.self_consistent` (from
+    5·10^4 points on its numba kernel, fastest along an ordered depth profile).
 
     Parameters
     ----------
@@ -173,15 +174,17 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     """
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     fluid = _fluid(fluid)
-    gamma = as_array("aspect_ratio", aspect_ratio)
+    gamma = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
+    if not tol > 0.0:
+        raise ValueError(f"tol must be > 0; got {tol:g}")
     frac = np.concatenate([(1.0 - phi)[..., None] * beta, phi[..., None]], axis=-1)
-    shape = frac.shape
+    aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
 
     def solve(K_pore, G_pore):
-        Kp = np.broadcast_to(np.append(K, K_pore), shape)
-        Gp = np.broadcast_to(np.append(G, G_pore), shape)
-        aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
-        return self_consistent(Kp, Gp, frac, aspect, tol=tol)
+        # The inputs are checked (minerals, fluid, fractions built from checked solid fractions
+        # and porosity), so the solver's own checks are skipped; the phase moduli go in as one
+        # row (n + 1,) and are broadcast against the fractions there.
+        return _self_consistent(np.append(K, K_pore), np.append(G, G_pore), frac, aspect, tol)
 
     sat = solve(fluid.K, 0.0)
     dry = solve(0.0, 0.0) if fluid.K > 0.0 else sat

@@ -15,7 +15,8 @@ REFERENCES: dict[str, str] = {
     ),
     "Carcione2005": (
         "Carcione, J. M., Helle, H. B., Santos, J. E., and Ravazzoli, C. L., 2005. A constitutive "
-        "equation and generalized Gassmann modulus for multimineral porous media. Geophysics 70, N17-N26."
+        "equation and generalized Gassmann modulus for multimineral porous media. Geophysics 70, "
+        "N17-N26."
     ),
     "Berryman1980": (
         "Berryman, J. G., 1980. Long-wavelength propagation in composite elastic media II. "
@@ -72,6 +73,10 @@ REFERENCES: dict[str, str] = {
     "GangiCarlson1996": (
         "Gangi, A. F., and Carlson, R. L., 1996. An asperity-deformation model for effective "
         "pressure. Tectonophysics 256, 241-251."
+    ),
+    "SquireTrapp1998": (
+        "Squire, W., and Trapp, G., 1998. Using complex variables to estimate derivatives of real "
+        "functions. SIAM Review 40, 110-112."
     ),
 }
 

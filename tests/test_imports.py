@@ -15,6 +15,20 @@ def test_import_does_not_load_numba(module):
     assert out.stdout.strip() == ""
 
 
+def test_small_self_consistent_does_not_load_numba():
+    """Model 2 below rockcem.inclusions._NUMBA_MIN_POINTS stays on the numpy path: no numba."""
+    code = ("import sys, numpy as np; from rockcem import inclusions, models, materials; "
+            "n = inclusions._NUMBA_MIN_POINTS // 10; "
+            "phi = np.linspace(0.36, 0.02, n); "
+            "beta = np.stack([0.9 + 0 * phi, 0.1 + 0 * phi], -1); "
+            "q, c, w = (materials.mineral('quartz'), materials.mineral('quartz_cement'), "
+            "materials.fluid('water')); "
+            "models.self_consistent_model([q, c], beta, phi, w, aspect_ratio=0.108); "
+            "print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
 def test_cli_materials_lists_catalogue():
     out = subprocess.run([sys.executable, "-m", "rockcem.cli", "materials"], capture_output=True,
                          text=True, check=True)
