@@ -21,7 +21,11 @@ The theories are evaluated for the sample's own coordination number and uncement
 (unrelaxed) moduli, and the CCT averaging (eq. A-3) applied to the bond stiffness of the MD
 sample, :math:`K = n(1-\\phi_c)S_n/(12\\pi\\bar R)`,
 :math:`G = n(1-\\phi_c)(S_n + \\tfrac32 S_s)/(20\\pi \\bar R)` -- which separates the contact law
-(bond stiffness vs CCT's contact stiffness) from the averaging (affine vs relaxed). In eq. A-3
+(bond stiffness vs CCT's contact stiffness) from the averaging (affine vs relaxed). Velocities:
+the static Vp, Vs from the relaxed moduli and the dry density (cement of the grain density), and
+the P-wave pulse test (:func:`md.pulse_test`) of the same bonds in the translational acoustic
+operator (:func:`md.bonded.bonded_acoustic_system`, grain rotations locked) with its own static
+cross-check. In eq. A-3
 the contact stiffness :math:`S` relates the force to the approach of one grain to the contact
 plane, half the centre-to-centre approach, so :math:`S = 2k` for the bond stiffness :math:`k` of
 :mod:`md.bonded` (with :math:`S = 2k` eq. A-3 is the exact affine bulk modulus of equal spheres).
@@ -80,7 +84,7 @@ def main(argv=None):
     import xarray as xr
 
     import md
-    from md.bonded import bonded_system, static_moduli
+    from md.bonded import bonded_acoustic_system, bonded_system, static_moduli
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", type=float, nargs=3, default=(5, 5, 10),
@@ -127,6 +131,19 @@ def main(argv=None):
                    porosity_uncemented=phic, porosity=meta["porosity"],
                    n_bonds=meta["n_bonds"], solve_seconds=seconds)
         row["K_bond_avg"], row["G_bond_avg"] = bond_averaging(system)
+        # Velocities: static (6 dof, grains rotate) and the pulse test of the same bonds in the
+        # translational acoustic operator (cement of the grain density).
+        rho = (meta["grain_volume_fraction"] + meta["cement_fraction"]) * meta["grain_density"]
+        row["density"] = rho / 1e3
+        row["vp_static"] = float(np.sqrt((m.bulk + 4 * m.shear / 3) / rho)) / 1e3
+        row["vs_static"] = float(np.sqrt(m.shear / rho)) / 1e3
+        t1 = time.perf_counter()
+        pulse = md.pulse_test(bonded_acoustic_system(system), "p")
+        row["vp_pulse"] = float(pulse.velocity) / 1e3
+        row["vp_pulse_error"] = float(pulse.velocity_error) / 1e3
+        row["vp_pulse_fit"] = float(pulse.velocity_fit) / 1e3
+        row["vp_static_no_rotation"] = float(pulse.velocity_static) / 1e3
+        row["pulse_seconds"] = time.perf_counter() - t1
         for stiff in ("fit", "integral"):
             K, G = theory(K0, G0, Kc / 1e9, Gc / 1e9, phic, n, a, h, stiff)
             row[f"K_cct_{stiff}"], row[f"G_cct_{stiff}"] = float(K), float(G)
@@ -161,10 +178,17 @@ def main(argv=None):
             "G_cct_integral": ("G CCT integral", ".3f"), "G_ratio_integral": ("MD/int", ".2f"),
             "K_md_affine": ("K affine", ".3f"), "G_md_affine": ("G affine", ".3f"),
             "K_bond_avg": ("K eq. A-3, bonds", ".3f"), "G_bond_avg": ("G eq. A-3, bonds", ".3f")}
+    vcols = {"radius_ratio": ("a/R", ".2f"), "thickness_ratio": ("eps", ".2f"),
+             "density": ("rho g/cm3", ".3f"), "vp_static": ("Vp static (km/s)", ".3f"),
+             "vs_static": ("Vs static", ".3f"),
+             "vp_static_no_rotation": ("Vp static, no rotation", ".3f"),
+             "vp_pulse": ("Vp pulse", ".3f"), "vp_pulse_error": ("+- eq. 11", ".3f")}
     print("\nContact bonding vs CCT (GPa)\n")
     print(markdown(frame[frame["mode"] == "contact"], cols))
     print("\nDistant bonding vs MCCT (GPa)\n")
     print(markdown(frame[frame["mode"] == "distant"], cols))
+    print("\nVelocities (dry; pulse test in the translational operator, rotations locked)\n")
+    print(markdown(frame[frame["thickness_ratio"].isin([0.0, max(thick)])], vcols))
     print(f"\ntotal {total:.1f} s")
     if args.no_plot:
         return

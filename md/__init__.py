@@ -13,7 +13,8 @@ models of :mod:`rockcem` to MD results (the one md module that uses rockcem).
 
 from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
 from . import calibrate
-from .bonded import BondedModuli, BondedSystem, bond_stiffness, bonded_moduli, bonded_system
+from .bonded import (BondedModuli, BondedSystem, bond_stiffness, bonded_acoustic_system,
+                     bonded_moduli, bonded_system)
 from .bonded import static_moduli as bonded_static_moduli
 from .cement import (HARD_CEMENT, SOFT_CEMENT, CementLattice, CementMaterial, cement_lattice,
                      grow_cement)
@@ -29,4 +30,5 @@ __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_r
            "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
            "grow_cement", "AcousticSystem", "acoustic_system", "cement_block", "pulse_test",
            "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness", "bonded_system",
-           "bonded_static_moduli", "bonded_moduli", "calibrate", "write_calibration"]
+           "bonded_static_moduli", "bonded_moduli", "bonded_acoustic_system", "calibrate",
+           "write_calibration"]

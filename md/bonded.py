@@ -65,7 +65,8 @@ from .contact import GrainMaterial
 from .state import Pack
 
 __all__ = ["BondStiffness", "bond_stiffness", "bond_cement_volume", "BondedSystem",
-           "bonded_system", "BondedModuli", "static_moduli", "bonded_moduli"]
+           "bonded_system", "BondedModuli", "static_moduli", "bonded_moduli",
+           "bonded_acoustic_system"]
 
 
 class BondStiffness(NamedTuple):
@@ -223,6 +224,8 @@ class BondedSystem:
     core : (float, float)
         z range of the core where stress and strain are measured, m.
     metadata : dict
+    bond_volume : ndarray, optional
+        Cement volume of every bond, m³ (:func:`bond_cement_volume`; zero for bare contacts).
     """
 
     positions: np.ndarray
@@ -241,6 +244,7 @@ class BondedSystem:
     boundary: np.ndarray
     core: tuple
     metadata: dict = field(default_factory=dict)
+    bond_volume: np.ndarray | None = None
 
     @property
     def n_grains(self) -> int:
@@ -402,6 +406,7 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     cement_volume = float(np.sum(bond_cement_volume(R_bar[in_core], alpha, eps)))
     core_grains = ~boundary
     counts = np.bincount(p.ravel(), minlength=r0.size)
+    bond_volume = bond_cement_volume(R_bar, alpha, eps)
     meta = {"radius_ratio": alpha, "thickness_ratio": eps, "cement_bulk": float(cement_bulk),
             "cement_shear": float(cement_shear), "grain_bulk": K_grain,
             "grain_shear": mat.shear_modulus, "mean_radius": float(r0.mean()),
@@ -409,9 +414,11 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
             "porosity": phi_grains - cement_volume / volume_core,
             "cement_fraction": cement_volume / volume_core,
             "coordination_number": float(counts[core_grains].mean()),
-            "n_bonds": int(p.shape[0]), "volume_core": volume_core}
+            "n_bonds": int(p.shape[0]), "volume_core": volume_core,
+            "grain_volume_fraction": 1.0 - phi_grains, "grain_density": mat.density}
     return BondedSystem(x, radii, pack.box, p[:, 0], p[:, 1], branch, shift, arm_i, arm_j,
-                        kn, ks, kb, kw, boundary, (float(z_lo), float(z_hi)), meta)
+                        kn, ks, kb, kw, boundary, (float(z_lo), float(z_hi)), meta,
+                        bond_volume)
 
 
 class BondedModuli(NamedTuple):
@@ -545,8 +552,9 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
 
 
 def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_bulk,
-                  cement_shear, contact_gap=None, slab=1.0, progress=False):
-    """Static moduli of a pack bonded over a grid of bond radii and thicknesses.
+                  cement_shear, cement_density=None, contact_gap=None, slab=1.0,
+                  progress=False):
+    r"""Static moduli of a pack bonded over a grid of bond radii and thicknesses.
 
     Parameters
     ----------
@@ -555,6 +563,9 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
         :math:`a/R` and :math:`\varepsilon = h/(2R)` (see :func:`bonded_system`).
     cement_bulk, cement_shear : float, keyword-only
         Pa.
+    cement_density : float, optional
+        kg/m³, for the density and the velocities; default the grain density (quartz cement
+        on quartz grains).
     contact_gap, slab
         As in :func:`bonded_system`.
     progress : bool
@@ -565,7 +576,9 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
     xarray.Dataset
         Over ``radius_ratio`` and ``thickness_ratio``: ``K``, ``G``, ``K_affine``,
         ``G_affine`` (GPa), ``G_xz``, ``G_yz``, ``G_xy`` (GPa), ``porosity``,
-        ``cement_fraction``; scalars ``porosity_uncemented`` and ``coordination_number``;
+        ``cement_fraction``, ``density`` (g/cm³: grains and bond cement of the core, dry) and the
+        static velocities ``vp`` = :math:`\sqrt{(K + \tfrac43 G)/\rho}`, ``vs`` =
+        :math:`\sqrt{G/\rho}` (km/s); scalars ``porosity_uncemented`` and ``coordination_number``;
         grain and cement moduli ``grain_K``, ``grain_G``, ``cement_K``, ``cement_G`` (GPa, as
         :func:`md.calibrate.calibrate` reads them) and the mean grain radius (m) in attrs.
     """
@@ -576,7 +589,10 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
     h_list = [float(v) for v in np.atleast_1d(thickness_ratios)]
     shape = (len(a_list), len(h_list))
     names = ("K", "G", "K_affine", "G_affine", "G_xz", "G_yz", "G_xy", "porosity",
-             "cement_fraction")
+             "cement_fraction", "density", "vp", "vs")
+    rho_c = pack.material.density if cement_density is None else float(cement_density)
+    if not (np.isfinite(rho_c) and rho_c > 0):
+        raise ValueError(f"cement_density must be > 0 kg/m3; got {cement_density}")
     data = {k: np.full(shape, np.nan) for k in names}
     meta = {}
     with tqdm(total=shape[0] * shape[1], disable=not progress, desc="bonded moduli") as bar:
@@ -593,15 +609,23 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
                     data[k][ia, ih] = v / 1e9
                 data["porosity"][ia, ih] = meta["porosity"]
                 data["cement_fraction"][ia, ih] = meta["cement_fraction"]
+                rho = (meta["grain_volume_fraction"] * meta["grain_density"]
+                       + meta["cement_fraction"] * rho_c) / 1e3              # g/cm3
+                data["density"][ia, ih] = rho
+                data["vp"][ia, ih] = np.sqrt((m.bulk + 4.0 * m.shear / 3.0) / 1e9 / rho)
+                data["vs"][ia, ih] = np.sqrt(m.shear / 1e9 / rho)
                 bar.update(1)
     units = {"K": "GPa", "G": "GPa", "K_affine": "GPa", "G_affine": "GPa", "G_xz": "GPa",
-             "G_yz": "GPa", "G_xy": "GPa", "porosity": "1", "cement_fraction": "1"}
+             "G_yz": "GPa", "G_xy": "GPa", "porosity": "1", "cement_fraction": "1",
+             "density": "g cm-3", "vp": "km s-1", "vs": "km s-1"}
     long = {"K": "static bulk modulus (relaxed)", "G": "static shear modulus (relaxed, mean)",
             "K_affine": "bulk modulus, affine (unrelaxed)",
             "G_affine": "shear modulus, affine (unrelaxed)", "G_xz": "shear modulus xz",
             "G_yz": "shear modulus yz", "G_xy": "shear modulus xy",
             "porosity": "porosity (grains and bond cement)",
-            "cement_fraction": "bond cement volume fraction"}
+            "cement_fraction": "bond cement volume fraction",
+            "density": "dry bulk density", "vp": "static P velocity",
+            "vs": "static S velocity"}
     dims = ("radius_ratio", "thickness_ratio")
     ds = xr.Dataset(
         {k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()},
@@ -612,6 +636,66 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
     ds["coordination_number"] = ((), meta["coordination_number"], {"units": "1"})
     ds.attrs.update(grain_K=meta["grain_bulk"] / 1e9, grain_G=meta["grain_shear"] / 1e9,
                     cement_K=float(cement_bulk) / 1e9, cement_G=float(cement_shear) / 1e9,
+                    grain_rho=meta["grain_density"] / 1e3, cement_rho=rho_c / 1e3,
                     mean_radius_m=meta["mean_radius"], n_grains=int(pack.n_grains),
                     references="Xu 2023, Sects. 2.2-2.3, Figs. 4-6; md.bonded docstring")
     return ds
+
+
+def bonded_acoustic_system(system: BondedSystem, *, cement_density=None, restitution=None,
+                           slab_thickness=None):
+    """The bonded sample as an :class:`md.AcousticSystem` for :func:`md.pulse_test`.
+
+    Each link becomes a contact bond of the acoustic operator with its normal and shear
+    stiffness (:math:`k_n`, :math:`k_s`), linear dashpots from the restitution
+    (:func:`md.acoustic.damping_ratio`), and the cement of each bond split between its two
+    grains' masses. The acoustic operator has translations only (García & Medina's eqs. 4–5):
+    grain rotations, and with them the bending and twisting stiffness, are left out, so its
+    waves see the sample with rotations locked; compare with :func:`static_moduli`, which
+    lets the grains rotate.
+
+    Parameters
+    ----------
+    system : BondedSystem
+    cement_density : float, optional
+        kg/m³; default the grain density.
+    restitution : float, optional
+        Restitution of the dashpots, default the grain material's (0.9).
+    slab_thickness : float, optional
+        Detector slab thickness, m; default two largest grain diameters.
+
+    Returns
+    -------
+    AcousticSystem
+    """
+    from .acoustic import AcousticSystem, damping_ratio
+
+    rho_g = system.metadata["grain_density"]
+    rho_c = rho_g if cement_density is None else float(cement_density)
+    if not (np.isfinite(rho_c) and rho_c > 0):
+        raise ValueError(f"cement_density must be > 0 kg/m3; got {cement_density}")
+    e = 0.9 if restitution is None else float(restitution)
+    zeta = damping_ratio(e)
+    r = system.radii
+    m = rho_g * 4.0 / 3.0 * np.pi * r**3
+    if system.bond_volume is not None:
+        half = 0.5 * rho_c * system.bond_volume
+        m = m + np.bincount(system.pair_i, half, r.size) + np.bincount(system.pair_j, half,
+                                                                          r.size)
+    i, j = system.pair_i, system.pair_j
+    m_red = m[i] * m[j] / (m[i] + m[j])
+    normal = system.branch / np.linalg.norm(system.branch, axis=1)[:, None]
+    thickness = 4.0 * float(r.max()) if slab_thickness is None else float(slab_thickness)
+    if not thickness > 0:
+        raise ValueError(f"slab_thickness must be > 0 m; got {slab_thickness}")
+    z = system.positions[:, 2]
+    extent = (float(np.min(z - r)), float(np.max(z + r)))
+    meta = {"n_grain_contacts": int(i.size), "n_cement": 0, "n_grain_cement": 0,
+            "restitution": e, "mean_radius": float(r.mean()), "bonded": 1,
+            "radius_ratio": system.metadata["radius_ratio"],
+            "thickness_ratio": system.metadata["thickness_ratio"]}
+    return AcousticSystem(
+        system.positions.copy(), m, system.n_grains, system.box, i.astype(np.int32),
+        j.astype(np.int32), normal, system.kn.copy(), system.ks.copy(),
+        2 * zeta * np.sqrt(system.kn * m_red), 2 * zeta * np.sqrt(system.ks * m_red),
+        np.zeros((0, 9), np.int32), np.zeros(9), np.zeros(9), thickness, extent, meta)

@@ -171,3 +171,39 @@ def test_distant_bonding_is_softer_and_grid_dataset():
     assert np.all(np.diff(ds.K.values, axis=0) > 0)
     assert np.all(np.diff(ds.porosity.values, axis=1) > 0)
     assert float(ds.coordination_number) == 6.0
+
+
+def test_static_velocities_and_density_of_the_grid():
+    """vp = sqrt((K + 4/3 G)/rho), vs = sqrt(G/rho) in km/s with the dry density of grains and
+    bond cement (g/cm3); a lighter cement lowers the density and raises the velocities."""
+    pack, _ = lattice_pack(n=(3, 3, 6))
+    heavy = bonded_moduli(pack, [0.4], [0.0], cement_bulk=15e9, cement_shear=8e9)
+    light = bonded_moduli(pack, [0.4], [0.0], cement_bulk=15e9, cement_shear=8e9,
+                          cement_density=1000.0)
+    rho = float(heavy.density[0, 0])
+    assert rho == pytest.approx((1 - float(heavy.porosity_uncemented)) * 2.65
+                                + float(heavy.cement_fraction[0, 0]) * 2.65, rel=1e-12)
+    K, G = float(heavy.K[0, 0]), float(heavy.G[0, 0])
+    assert float(heavy.vp[0, 0]) == pytest.approx(np.sqrt((K + 4 * G / 3) / rho), rel=1e-12)
+    assert float(heavy.vs[0, 0]) == pytest.approx(np.sqrt(G / rho), rel=1e-12)
+    assert float(light.density[0, 0]) < rho and float(light.vp[0, 0]) > float(heavy.vp[0, 0])
+
+
+def test_bonded_sample_in_the_pulse_test_operator():
+    """The acoustic operator of a bonded simple cubic lattice: its static P-wave modulus is
+    C11 = k_n/d (translations only, as the 6-dof solve under uniaxial strain, where the
+    grains do not rotate); its mass holds the grains and the bond cement; the pulse travels
+    near the long-wave velocity sqrt(C11/rho)."""
+    from md.acoustic import pulse_test, static_modulus
+    from md.bonded import bonded_acoustic_system
+
+    pack, d = lattice_pack(n=(3, 3, 24))
+    bonded = bonded_system(pack, 0.4, 0.0, cement_bulk=15e9, cement_shear=8e9)
+    system = bonded_acoustic_system(bonded, slab_thickness=2 * d)
+    grains = QUARTZ.density * 4 / 3 * np.pi * pack.radii**3
+    cement = QUARTZ.density * bonded.bond_volume.sum()
+    assert system.masses.sum() == pytest.approx(grains.sum() + cement, rel=1e-12)
+    st = static_modulus(system, "p")
+    assert st.modulus == pytest.approx(bonded.kn[0] / d, rel=1e-9)
+    ds = pulse_test(system, "p")
+    assert float(ds.velocity_fit) == pytest.approx(st.velocity, rel=0.1)
