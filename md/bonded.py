@@ -207,7 +207,7 @@ class BondedSystem:
     positions : ndarray, shape (n, 3)
         Grain centres, m (x, y wrapped into the box).
     radii : ndarray, shape (n,)
-        m (reduced by the factor :math:`1 - \varepsilon` for distant bonding).
+        m (reduced to :math:`R/(1 + \varepsilon)` for distant bonding).
     box : Box
     pair_i, pair_j : ndarray of int64
         Grains of every link (bonds, then bare Hertz contacts).
@@ -332,8 +332,9 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     :math:`h = 2\varepsilon\bar R` (:func:`bond_stiffness`, :math:`\bar R` the pair's harmonic
     mean radius). Contact bonding (:math:`\varepsilon = 0`): the overlapping pairs keep their
     linearised Hertz–Mindlin contact in parallel. Distant bonding (:math:`\varepsilon > 0`):
-    every grain radius is reduced by the factor :math:`1 - \varepsilon` about its centre, so a
-    bonded pair is about :math:`h` apart and bare contacts vanish (Xu 2023, Fig. 3b).
+    every grain radius :math:`R` is reduced to :math:`R' = R/(1 + \varepsilon)` about its
+    centre, so a touching pair is :math:`h = 2\varepsilon R'` apart and bare contacts vanish
+    (Xu 2023, Fig. 3b); :math:`\alpha` and :math:`\varepsilon` refer to these grains.
 
     Parameters
     ----------
@@ -363,6 +364,8 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
         raise ValueError(f"radius_ratio (a/R) must lie in (0, 1]; got {radius_ratio}")
     if not 0.0 <= eps < 0.5:
         raise ValueError(f"thickness_ratio (h/2R) must lie in [0, 0.5); got {thickness_ratio}")
+    if not (np.isfinite(slab) and slab > 0):
+        raise ValueError(f"slab must be > 0 largest grain diameters; got {slab}")
     mat: GrainMaterial = pack.material
     r0 = pack.radii
     gap = 1e-3 * float(r0.mean()) if contact_gap is None else float(contact_gap)
@@ -371,7 +374,10 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     p, branch, shift, dist, surface_gap = _pairs(pack, gap)
     if p.shape[0] == 0:
         raise ValueError("the pack has no touching grains to bond")
-    ri, rj = r0[p[:, 0]], r0[p[:, 1]]
+    # Distant bonding: the grains shrink to R/(1 + eps) about their centres, so a touching pair
+    # is 2 eps R' apart (R' the new radius) and a/R, h/(2R) refer to the grains that exist.
+    radii = r0 / (1.0 + eps)
+    ri, rj = radii[p[:, 0]], radii[p[:, 1]]
     R_bar = 2.0 * ri * rj / (ri + rj)
     nu = mat.poisson_ratio
     K_grain = 2.0 * mat.shear_modulus * (1 + nu) / (3 * (1 - 2 * nu))
@@ -386,7 +392,6 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
         a_H = np.sqrt(np.where(touch, ri * rj / (ri + rj) * np.maximum(xi, 0.0), 0.0))
         kn = kn + 2.0 * mat.E_f * a_H
         ks = ks + 8.0 * mat.G_f * a_H
-    radii = r0 * (1.0 - eps)                             # bonded pairs end up ~h apart
     x = pack.positions.copy()
     x[:, 0] %= pack.box.lx
     x[:, 1] %= pack.box.ly
@@ -395,6 +400,8 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     if not z_hi > z_lo:
         raise ValueError("slab: the end slabs leave no core between them")
     boundary = (x[:, 2] < z_lo) | (x[:, 2] > z_hi)
+    if not (np.any(x[:, 2] < z_lo) and np.any(x[:, 2] > z_hi)):
+        raise ValueError(f"slab: both end slabs must hold grains; got slab = {slab}")
     mid = x[p[:, 0], 2] + 0.5 * branch[:, 2]
     in_core = (mid >= z_lo) & (mid < z_hi)
     volume_core = pack.box.lx * pack.box.ly * (z_hi - z_lo)
@@ -447,17 +454,21 @@ def _connected(system: BondedSystem):
 
 def _core_fraction(system: BondedSystem):
     """Fraction of each link's centre-to-centre segment that lies in the core slab: the
-    weight of the link in the volume average of the Irving–Kirkwood stress over the core
-    (exact for a region cut by planes, where the midpoint rule is not)."""
+    weight of the link in the volume average of the Irving–Kirkwood stress over the core.
+    For the tractions on the core's planes (zz, xz, yz) this is exact; the in-plane
+    components (xx, yy, xy) of links that do not cross z carry the error of cutting the
+    sample at a height (a flat link lying on a core plane counts one half)."""
     z_lo, z_hi = system.core
     za = system.positions[system.pair_i, 2]
     zb = za + system.branch[:, 2]
     lo, hi = np.minimum(za, zb), np.maximum(za, zb)
     span = hi - lo
     inside = np.clip(np.minimum(hi, z_hi) - np.maximum(lo, z_lo), 0.0, None)
-    flat = span <= 1e-12 * np.abs(system.branch).max()
-    return np.where(flat, ((lo >= z_lo) & (lo < z_hi)).astype(float),
-                    inside / np.where(flat, 1.0, span))
+    tol = 1e-9 * np.abs(system.branch).max()
+    flat = span <= tol
+    on_plane = (np.abs(lo - z_lo) <= tol) | (np.abs(lo - z_hi) <= tol)
+    flat_weight = np.where(on_plane, 0.5, ((lo > z_lo) & (lo < z_hi)).astype(float))
+    return np.where(flat, flat_weight, inside / np.where(flat, 1.0, span))
 
 
 def _response(system: BondedSystem, K, strain, relax):
@@ -471,8 +482,8 @@ def _response(system: BondedSystem, K, strain, relax):
     x = system.positions
     q = np.zeros((n, 6))
     q[:, :3] = x @ E.T                                   # affine start, no rotation
+    live = _connected(system)
     if relax:
-        live = _connected(system)
         free = live & ~system.boundary
         free_dof = (6 * np.flatnonzero(free)[:, None] + np.arange(6)).ravel()
         # Gradient of the energy at the affine state: K q + (shift terms).
@@ -489,14 +500,20 @@ def _response(system: BondedSystem, K, strain, relax):
         dq = spsolve(Kff, -grad[free_dof])
         q.reshape(-1)[free_dof] += dq
     f_j = system.link_forces(q, E)
-    stress = -np.einsum("m,mi,mj->ij", _core_fraction(system), system.branch, f_j) / \
+    # Grains not linked to the end slabs (rattlers, floating clusters) carry no load: their
+    # links and displacements stay out of the stress and the strain.
+    weight = _core_fraction(system) * (live[system.pair_i] & live[system.pair_j])
+    stress = -np.einsum("m,mi,mj->ij", weight, system.branch, f_j) / \
         system.metadata["volume_core"]
     stress = 0.5 * (stress + stress.T)
     # Mean displacement gradient of the core: the x and y derivatives are the imposed ones
     # (the fluctuations are periodic in x and y); the z derivatives are the least-squares
     # slope of the core grains' displacements (less their imposed x, y part) against z.
     z_lo, z_hi = system.core
-    inside = ~system.boundary & (x[:, 2] >= z_lo) & (x[:, 2] < z_hi)
+    inside = live & ~system.boundary & (x[:, 2] >= z_lo) & (x[:, 2] < z_hi)
+    if not inside.any() or np.ptp(x[inside, 2]) <= 0.0:
+        raise ValueError("the core holds no load-bearing grains at different heights; make "
+                         "the sample taller or the end slabs thinner")
     grad_u = E.copy()
     rest = q[inside, :3] - x[inside, :2] @ E[:, :2].T
     zc = x[inside, 2] - x[inside, 2].mean()
@@ -509,13 +526,14 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
 
     The end-slab grains are moved with a macroscopic strain (their rotations held at 0), the
     periodic images in x and y carry the same strain, and the other grains (those linked to
-    the end slabs; isolated clusters drop out) relax to equilibrium: one sparse direct solve
+    the end slabs) relax to equilibrium: one sparse direct solve
     of :math:`K_{ff}\,q_f = -g_f` per strain. Stress: the symmetrised virial
-    :math:`\sigma = -\frac1V\sum \mathbf l\otimes\mathbf f_j` of the links whose midpoint lies
-    over the core, each link weighted by the fraction of its segment inside the core (tension
-    positive); strain: the imposed x and y derivatives of the displacement (exact: the
-    fluctuations are periodic) and the least-squares z derivatives of the core grains'
-    displacements. Bulk: isotropic strain, :math:`K = \tfrac13\mathrm{tr}\,\sigma /
+    :math:`\sigma = -\frac1V\sum \mathbf l\otimes\mathbf f_j` over the load-bearing links,
+    each weighted by the fraction of its segment inside the core (tension positive); strain:
+    the imposed x and y derivatives of the displacement (exact: the fluctuations are periodic)
+    and the least-squares z derivatives of the core grains' displacements. Rattlers and
+    clusters not linked to the end slabs carry no load and are left out of both. Bulk:
+    isotropic strain, :math:`K = \tfrac13\mathrm{tr}\,\sigma /
     \mathrm{tr}\,\varepsilon`; shear: pure shears in xz, yz and xy,
     :math:`G = \sigma_{ab}/(2\varepsilon_{ab})`, averaged.
 
@@ -529,8 +547,8 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
     -------
     BondedModuli
     """
-    if not strain > 0:
-        raise ValueError(f"strain must be > 0; got {strain}")
+    if not (np.isfinite(strain) and strain > 0):
+        raise ValueError(f"strain must be finite and > 0; got {strain}")
     K = system.stiffness_matrix()
     iso = strain * np.eye(3)
     shears = []
@@ -578,7 +596,8 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
         ``G_affine`` (GPa), ``G_xz``, ``G_yz``, ``G_xy`` (GPa), ``porosity``,
         ``cement_fraction``, ``density`` (g/cm³: grains and bond cement of the core, dry) and the
         static velocities ``vp`` = :math:`\sqrt{(K + \tfrac43 G)/\rho}`, ``vs`` =
-        :math:`\sqrt{G/\rho}` (km/s); scalars ``porosity_uncemented`` and ``coordination_number``;
+        :math:`\sqrt{G/\rho}` (km/s); ``porosity_uncemented`` over ``thickness_ratio`` (the
+        grains shrink with it) and the scalar ``coordination_number``;
         grain and cement moduli ``grain_K``, ``grain_G``, ``cement_K``, ``cement_G`` (GPa, as
         :func:`md.calibrate.calibrate` reads them) and the mean grain radius (m) in attrs.
     """
@@ -590,6 +609,7 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
     shape = (len(a_list), len(h_list))
     names = ("K", "G", "K_affine", "G_affine", "G_xz", "G_yz", "G_xy", "porosity",
              "cement_fraction", "density", "vp", "vs")
+    phi_unc = np.full(len(h_list), np.nan)
     rho_c = pack.material.density if cement_density is None else float(cement_density)
     if not (np.isfinite(rho_c) and rho_c > 0):
         raise ValueError(f"cement_density must be > 0 kg/m3; got {cement_density}")
@@ -608,6 +628,7 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
                 for k, v in zip(names[:7], values):
                     data[k][ia, ih] = v / 1e9
                 data["porosity"][ia, ih] = meta["porosity"]
+                phi_unc[ih] = meta["porosity_uncemented"]
                 data["cement_fraction"][ia, ih] = meta["cement_fraction"]
                 rho = (meta["grain_volume_fraction"] * meta["grain_density"]
                        + meta["cement_fraction"] * rho_c) / 1e3              # g/cm3
@@ -632,7 +653,8 @@ def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_
         coords={"radius_ratio": ("radius_ratio", a_list, {"long_name": "bond radius a/R"}),
                 "thickness_ratio": ("thickness_ratio", h_list,
                                     {"long_name": "contact thickness epsilon = h/(2R)"})})
-    ds["porosity_uncemented"] = ((), meta["porosity_uncemented"], {"units": "1"})
+    ds["porosity_uncemented"] = ("thickness_ratio", phi_unc, {
+        "units": "1", "long_name": "porosity of the grains alone (shrunk by 1/(1 + eps))"})
     ds["coordination_number"] = ((), meta["coordination_number"], {"units": "1"})
     ds.attrs.update(grain_K=meta["grain_bulk"] / 1e9, grain_G=meta["grain_shear"] / 1e9,
                     cement_K=float(cement_bulk) / 1e9, cement_G=float(cement_shear) / 1e9,

@@ -181,7 +181,7 @@ def test_static_velocities_and_density_of_the_grid():
     light = bonded_moduli(pack, [0.4], [0.0], cement_bulk=15e9, cement_shear=8e9,
                           cement_density=1000.0)
     rho = float(heavy.density[0, 0])
-    assert rho == pytest.approx((1 - float(heavy.porosity_uncemented)) * 2.65
+    assert rho == pytest.approx((1 - float(heavy.porosity_uncemented[0])) * 2.65
                                 + float(heavy.cement_fraction[0, 0]) * 2.65, rel=1e-12)
     K, G = float(heavy.K[0, 0]), float(heavy.G[0, 0])
     assert float(heavy.vp[0, 0]) == pytest.approx(np.sqrt((K + 4 * G / 3) / rho), rel=1e-12)
@@ -207,3 +207,36 @@ def test_bonded_sample_in_the_pulse_test_operator():
     assert st.modulus == pytest.approx(bonded.kn[0] / d, rel=1e-9)
     ds = pulse_test(system, "p")
     assert float(ds.velocity_fit) == pytest.approx(st.velocity, rel=0.1)
+
+
+def test_grid_records_the_porosity_of_each_thickness_and_rejects_bad_knobs(expect_value_error):
+    """The grains shrink with eps, so porosity_uncemented varies along thickness_ratio and
+    equals each bonded_system's own; a slab <= 0 (no prescribed grains) and a non-finite
+    strain are errors, not silent affine or NaN moduli."""
+    from md.bonded import static_moduli as moduli
+
+    pack, _ = lattice_pack(n=(3, 3, 6))
+    ds = bonded_moduli(pack, [0.3], [0.0, 0.05], cement_bulk=6.8e9, cement_shear=2.0e9)
+    for h in (0.0, 0.05):
+        one = bonded_system(pack, 0.3, h, cement_bulk=6.8e9, cement_shear=2.0e9)
+        assert float(ds.porosity_uncemented.sel(thickness_ratio=h)) == pytest.approx(
+            one.metadata["porosity_uncemented"], rel=1e-12)
+    assert float(ds.porosity_uncemented[1]) > float(ds.porosity_uncemented[0])
+    expect_value_error(lambda: bonded_system(pack, 0.3, cement_bulk=1e9, cement_shear=1e9,
+                                             slab=0.0), "slab")
+    system = bonded_system(pack, 0.3, cement_bulk=1e9, cement_shear=1e9)
+    expect_value_error(lambda: moduli(system, strain=np.inf), "strain")
+
+
+def test_distant_bonding_refers_to_the_shrunk_grains():
+    """With eps > 0 the grains shrink to R/(1 + eps), so touching pairs end 2 eps R' apart and
+    the bonds are built on R' (a = alpha R', h = 2 eps R')."""
+    pack, d = lattice_pack(n=(3, 3, 6))
+    eps = 0.04
+    system = bonded_system(pack, 0.3, eps, cement_bulk=6.8e9, cement_shear=2.0e9)
+    R1 = pack.radii[0] / (1 + eps)
+    assert system.radii == pytest.approx(np.full(pack.n_grains, R1), rel=1e-14)
+    gap = np.linalg.norm(system.branch, axis=1) - 2 * R1
+    assert gap == pytest.approx(np.full(gap.size, 2 * eps * R1), rel=1e-6)
+    ref = bond_stiffness(R1, 0.3, eps, K_GRAIN, G_GRAIN, 6.8e9, 2.0e9)
+    assert system.kn == pytest.approx(np.full(gap.size, ref.normal), rel=1e-12)
