@@ -229,7 +229,8 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     scheme : {1, 2}
         Cement at the contacts (1) or coating the grains (2).
     thickness : float or array_like
-        Normalised contact thickness :math:`\varepsilon = h/R`, ``>= 0``.
+        Normalised contact thickness :math:`\varepsilon`, half the axial gap over :math:`R`
+        (what Han & Guo's eqs. 1 and 6 count; their text calls it h/R), ``>= 0``.
 
     Returns
     -------
@@ -532,7 +533,7 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     end_b = hashin_shtrikman_upper(stack_phases(cct.K, hm.K), stack_phases(cct.G, hm.G),
                                    stack_phases(frac, 1.0 - frac))
     end_s = self_consistent(stack_phases(K0, Kc), stack_phases(G0, Gc),
-                            stack_phases(1.0 - phic_arr, phic_arr))
+                            stack_phases(1.0 - phic_arr, phic_arr), engine="numpy")
     x = phi / phic_arr
     K, G, w = (stack_phases(end_s.K, end_b.K), stack_phases(end_s.G, end_b.G),
                stack_phases(1.0 - x, x))

@@ -317,8 +317,17 @@ def _read_only(a):
     return v
 
 
+ENGINES = ("auto", "numpy", "numba")
+
+
+def _check_engine(engine):
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(map(repr, ENGINES))}; got {engine!r}")
+    return engine
+
+
 def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=200,
-                    full_output=False):
+                    full_output=False, engine="auto"):
     r"""Berryman's self-consistent moduli of an ``n``-phase composite, eqs. 8–9 of [Carcione2022]_.
 
     Solves, at every point at once,
@@ -370,6 +379,10 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
         modulus decays to zero.
     full_output : bool, optional
         Also return a :class:`SolverInfo` with iterations and residuals per point.
+    engine : {"auto", "numpy", "numba"}, optional
+        ``"auto"`` (default) uses the numba kernel from 5·10^4 points on and numpy below;
+        ``"numpy"`` never imports numba (slower for large inputs); ``"numba"`` always uses the
+        kernel (numpy if numba cannot be imported). Same results to round-off.
 
     Returns
     -------
@@ -399,10 +412,12 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
         raise ValueError(f"tol must be > 0; got {tol:g}")
     if int(max_iter) < 1:
         raise ValueError(f"max_iter must be >= 1; got {max_iter}")
-    return _self_consistent(K, G, frac, a, tol, int(max_iter), full_output)
+    return _self_consistent(K, G, frac, a, tol, int(max_iter), full_output,
+                            _check_engine(engine))
 
 
-def _self_consistent(K, G, frac, a, tol=1e-12, max_iter=200, full_output=False):
+def _self_consistent(K, G, frac, a, tol=1e-12, max_iter=200, full_output=False,
+                     engine="auto"):
     """:func:`self_consistent` on checked float arrays (not yet broadcast)."""
     a_given = a
     K, G, frac, a = broadcast(K=K, G=G, fractions=frac, aspect_ratio=a)
@@ -422,7 +437,7 @@ def _self_consistent(K, G, frac, a, tol=1e-12, max_iter=200, full_output=False):
     kind = np.broadcast_to(kind_given, a.shape).reshape(-1, n)
 
     solved = None
-    if npts >= _NUMBA_MIN_POINTS:
+    if engine == "numba" or (engine == "auto" and npts >= _NUMBA_MIN_POINTS):
         solved = _solve_numba(K_i, G_i, fr, kind, _spheroid_coefficients(th_u, f_u), tol,
                               max_iter)
     if solved is None:

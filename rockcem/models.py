@@ -149,7 +149,7 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
 
 
 def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_ratio,
-                          tol=1e-12) -> RockProperties:
+                          tol=1e-12, engine="auto") -> RockProperties:
     r"""Model 2 of [Carcione2022]_: Berryman's self-consistent scheme, eqs. 8–9.
 
     The solids are spheres and the pores spheroids of the given aspect ratio, in volume
@@ -167,11 +167,17 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
         sandstone of [Carcione2022]_; 1 for spherical pores).
     tol : float, optional
         Tolerance of the Newton solver of :func:`rockcem.inclusions.self_consistent`.
+    engine : {"auto", "numpy", "numba"}, optional
+        Solver implementation, as in :func:`rockcem.inclusions.self_consistent` (``"numpy"``
+        never imports numba).
 
     Returns
     -------
     RockProperties
     """
+    from .inclusions import _check_engine
+
+    _check_engine(engine)
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     fluid = _fluid(fluid)
     gamma = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
@@ -184,7 +190,8 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
         # The inputs are checked (minerals, fluid, fractions built from checked solid fractions
         # and porosity), so the solver's own checks are skipped; the phase moduli go in as one
         # row (n + 1,) and are broadcast against the fractions there.
-        return _self_consistent(np.append(K, K_pore), np.append(G, G_pore), frac, aspect, tol)
+        return _self_consistent(np.append(K, K_pore), np.append(G, G_pore), frac, aspect, tol,
+                                engine=engine)
 
     sat = solve(fluid.K, 0.0)
     dry = solve(0.0, 0.0) if fluid.K > 0.0 else sat

@@ -52,3 +52,26 @@ def test_datasets_found_outside_the_source_tree(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=tmp_path, check=True)
     assert out.stdout.strip() == "True"
+
+
+def test_engine_numpy_never_loads_numba_and_scenes_default_to_it():
+    """engine="numpy" keeps a large Model 2 (above the numba threshold) off numba, and a scene's
+    models.self_consistent.engine defaults to "numpy" (DESIGN: a scene without MD never imports
+    numba)."""
+    code = ("import sys, numpy as np; from rockcem.models import self_consistent_model; "
+            "from rockcem.materials import mineral, fluid; "
+            "from rockcem.inclusions import _NUMBA_MIN_POINTS; "
+            "from rockcem.scene import SCHEMA; "
+            "phi = np.linspace(0.35, 0.05, _NUMBA_MIN_POINTS + 10); "
+            "m = self_consistent_model([mineral('quartz')], np.ones((phi.size, 1)), phi, "
+            "fluid('water'), aspect_ratio=0.108, engine='numpy'); "
+            "print('numba' in sys.modules, SCHEMA['models.self_consistent']['engine'][0])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "numpy"]
+
+
+def test_bad_engine_names_the_argument(expect_value_error):
+    from rockcem.inclusions import self_consistent
+
+    expect_value_error(lambda: self_consistent([40.0, 2.0], [30.0, 0.0], [0.7, 0.3],
+                                               engine="fast"), "engine")

@@ -386,3 +386,20 @@ def test_sweep_over_calibration_files(tmp_path):
         "coordination_number": 7.0}})))
     np.testing.assert_allclose(ds.vp.sel(calibration=paths[1]), one.vp, rtol=1e-14)
     assert "c5" in ds.attrs["calibration"] and "c7" in ds.attrs["calibration"]
+
+
+def test_calibration_for_another_model_is_refused(tmp_path):
+    """A calibration file fitted for contact_cement cannot fill [models.patchy_cement]."""
+    from pathlib import Path
+
+    from rockcem.calibrate import write_calibration
+
+    write_calibration(tmp_path / "cct.toml", name="cct", model="contact_cement",
+                      parameters={"coordination_number": 6.0})
+    text = (Path(__file__).parents[1] / "datasets" / "scenes"
+            / "carcione2022_sandstone_calibrated.toml").read_text()
+    scene = tmp_path / "s.toml"
+    scene.write_text(text.replace('calibration = "garcia_medina_compacted_patchy"',
+                                  'calibration = "cct.toml"'))
+    with pytest.raises(ValueError, match="is for model 'contact_cement', not 'patchy_cement'"):
+        load_scene(scene)
