@@ -16,8 +16,8 @@ and shear moduli are computed by sparse solves:
 
 The theories are evaluated for the sample's own coordination number and uncemented porosity
 (:math:`\\phi_c`), with the cement porosity from the bond radius by inverting eq. A-9
-(:math:`\\phi_c - \\phi = \\tfrac34 n (1-\\phi_c)(\\alpha^4/4 + \\alpha^2\\varepsilon)`), so that
-:func:`rockcem.granular.cement_radius` returns the bond's a/R. Besides them: the sample's affine
+(:func:`rockcem.granular.cement_porosity`), so that :func:`rockcem.granular.cement_radius`
+returns the bond's a/R. Besides them: the sample's affine
 (unrelaxed) moduli, and the CCT averaging (eq. A-3) applied to the bond stiffness of the MD
 sample, :math:`K = n(1-\\phi_c)S_n/(12\\pi\\bar R)`,
 :math:`G = n(1-\\phi_c)(S_n + \\tfrac32 S_s)/(20\\pi \\bar R)` -- which separates the contact law
@@ -56,12 +56,9 @@ THICKNESS_RATIOS = (0.01, 0.02, 0.03, 0.04, 0.05)
 
 def theory(K0, G0, Kc, Gc, phic, n, alpha, eps, stiffness):
     """CCT (eps = 0) or MCCT moduli (GPa) at bond radius ``alpha`` and thickness ``eps``."""
-    from rockcem.granular import cement_radius, contact_cement
+    from rockcem.granular import cement_porosity, contact_cement
 
-    alpha = np.asarray(alpha, dtype=float)
-    phi = phic - 0.75 * n * (1 - phic) * (alpha**4 / 4 + alpha**2 * eps)
-    back = cement_radius(phi, phic, n, 1, eps)
-    assert np.allclose(back, alpha, rtol=1e-10), "eq. A-9 inversion"
+    phi = cement_porosity(alpha, phic, n, 1, eps)
     m = contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=eps,
                        stiffness=stiffness)
     return np.asarray(m.K, dtype=float), np.asarray(m.G, dtype=float)

@@ -162,18 +162,10 @@ def _flat(sub, name, ref, point_dims):
 
 
 def _radius_porosity(alpha, phic, n, scheme, eps):
-    r"""Porosity whose cement radius (:func:`rockcem.granular.cement_radius`) is ``alpha``.
+    """Porosity whose cement radius is ``alpha``: :func:`rockcem.granular.cement_porosity`."""
+    from rockcem.granular import cement_porosity
 
-    Inverts eq. 7 of [HanGuo]_ (scheme 1): with :math:`y = \frac{4}{3n}\frac{\phi_c -
-    \phi}{1-\phi_c}`, :math:`\alpha^2 = 2y/(\varepsilon + \sqrt{\varepsilon^2 + y})` gives
-    :math:`y = \alpha^2(\alpha^2/4 + \varepsilon)`; scheme 2 (eq. 18 of [Carcione2022]_):
-    :math:`(\phi_c - \phi)/(1-\phi_c) = 3\alpha^2/2`.
-    """
-    if scheme == 2:
-        x = 1.5 * alpha**2
-    else:
-        x = 0.75 * n * alpha**2 * (0.25 * alpha**2 + eps)
-    return phic - x * (1.0 - phic)
+    return cement_porosity(alpha, phic, n, scheme, eps)
 
 
 class _Group:

@@ -23,6 +23,7 @@ __all__ = [
     "soft_sand",
     "stiff_sand",
     "cement_radius",
+    "cement_porosity",
     "contact_cement",
     "constant_cement",
     "increasing_cement",
@@ -250,6 +251,44 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     y = 4.0 * x / (3.0 * n)
     root = eps + np.sqrt(eps * eps + y)
     return np.sqrt(np.where(root > 0.0, 2.0 * y / np.where(root > 0.0, root, 1.0), 0.0))
+
+
+def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
+    r"""Porosity whose cement radius (:func:`cement_radius`) is ``alpha``: its inverse.
+
+    Scheme 1 inverts eq. 7 of [HanGuo]_: with :math:`y = \frac{4}{3n}\frac{\phi_c -
+    \phi}{1-\phi_c}`, :math:`\alpha^2 = 2y/(\varepsilon + \sqrt{\varepsilon^2 + y})` gives
+    :math:`y = \alpha^2(\alpha^2/4 + \varepsilon)` (their eq. 6:
+    :math:`\frac{3n}{16}\alpha^4 + \frac{3n\varepsilon}{4}\alpha^2 =
+    \frac{\phi_c-\phi}{1-\phi_c}`); scheme 2 inverts eq. 18 of [Carcione2022]_:
+    :math:`(\phi_c - \phi)/(1-\phi_c) = 3\alpha^2/2`.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Normalised cement radius :math:`a/R`, ``>= 0``.
+    phic, n, scheme, thickness
+        As in :func:`cement_radius`.
+
+    Returns
+    -------
+    ndarray
+        Porosity :math:`\phi`; a value below 0 means the cement radius needs more cement than
+        the pore space holds (raises ``ValueError``).
+    """
+    alpha = check_positive("alpha", as_array("alpha", alpha), allow_zero=True)
+    phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
+    n = check_positive("n", as_array("n", n))
+    eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
+    if scheme not in (1, 2):
+        raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
+    x = 1.5 * alpha**2 if scheme == 2 else 0.75 * n * alpha**2 * (0.25 * alpha**2 + eps)
+    phi = phic - x * (1.0 - phic)
+    if np.any(phi < 0.0):
+        raise ValueError("alpha (cement radius a/R) needs more cement than the pore space holds "
+                         f"(porosity {float(np.min(phi)):.4g} < 0) for these phic, n, thickness")
+    phi, _, _, _ = broadcast(phi=phi, n=n, thickness=eps, alpha=alpha)
+    return phi
 
 
 #: Range of the stiffness parameters Lambda_n, Lambda_tau over which the polynomial fits of

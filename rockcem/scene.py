@@ -270,6 +270,12 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
                     if name in MODEL_OUTPUTS else _suggest(name, valid_outputs))
             raise ValueError(f"scene output {name!r} is not available for this scene{hint}")
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
+    for dotted in sweep:
+        section, _, key = dotted.rpartition(".")
+        cal = calibrations.get(section.removeprefix("models."))
+        if section.startswith("models.") and cal is not None and key in cal["parameters"]:
+            raise ValueError(f"sweep {dotted}: that parameter is set by calibration "
+                             f"{cal['name']!r}; sweep the calibration file instead")
     from . import materials
 
     for key in ("grain", "cement", "fluid") if lithology == "sandstone" else \

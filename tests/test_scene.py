@@ -403,3 +403,15 @@ def test_calibration_for_another_model_is_refused(tmp_path):
                                   'calibration = "cct.toml"'))
     with pytest.raises(ValueError, match="is for model 'contact_cement', not 'patchy_cement'"):
         load_scene(scene)
+
+
+def test_sweeping_a_calibrated_parameter_is_refused(tmp_path):
+    """A sweep over a key that the scene's calibration file sets fails at load, naming both."""
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "datasets" / "scenes"
+            / "carcione2022_sandstone_calibrated.toml").read_text()
+    scene = tmp_path / "s.toml"
+    scene.write_text(text + '\n[sweep]\n"models.patchy_cement.coordination_number" = [6.0, 8.0]\n')
+    with pytest.raises(ValueError, match="set by calibration 'garcia_medina_compacted_patchy'"):
+        load_scene(scene)

@@ -270,3 +270,22 @@ def test_patchy_cement_monotone_in_cement_property(phi, p, delta, scheme):
     # (1 - phic, phic) (Carcione et al. 2022, Sect. 4.4): never stiffer than its HS upper bound.
     hs = hashin_shtrikman([KQ, KC], [GQ, GC], [0.64, 0.36])
     assert np.all(m.K <= hs.K_upper * (1 + 1e-12)) and np.all(m.G >= 0)
+
+
+@pytest.mark.parametrize("scheme,eps", [(1, 0.0), (1, 0.03), (2, 0.0), (2, 0.05)])
+def test_cement_porosity_inverts_cement_radius(scheme, eps):
+    """cement_radius(cement_porosity(alpha)) = alpha (eq. 7 of Han & Guo / eq. 18 of Carcione
+    2022); scheme 1 at eps = 0 is the closed form phic - 3 n (1 - phic) (alpha/2)^4."""
+    from rockcem.granular import cement_porosity, cement_radius
+
+    alpha = np.linspace(0.05, 0.5, 10)
+    phi = cement_porosity(alpha, 0.4, 6.0, scheme, eps)
+    np.testing.assert_allclose(cement_radius(phi, 0.4, 6.0, scheme, eps), alpha, rtol=1e-12)
+    if scheme == 1 and eps == 0.0:
+        np.testing.assert_allclose(phi, 0.4 - 3 * 6.0 * 0.6 * (alpha / 2) ** 4, rtol=1e-14)
+
+
+def test_cement_porosity_beyond_the_pore_space_raises(expect_value_error):
+    from rockcem.granular import cement_porosity
+
+    expect_value_error(lambda: cement_porosity(0.9, 0.4, 12.0), "alpha")
