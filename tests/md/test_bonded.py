@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from md.bonded import (_layer_integrals, bond_cement_volume, bond_stiffness, bonded_moduli,
-                       bonded_system, static_moduli)
+from md.bond_stiffness import _layer_integrals, bond_cement_volume, bond_stiffness
+from md.bonded import bonded_moduli, bonded_system, static_moduli
 from md.contact import QUARTZ
 from md.space import Box
 from md.state import Pack
@@ -44,7 +44,8 @@ def test_rigid_cement_gives_the_welded_punch_pair():
 
 def test_rigid_grains_give_the_thin_layer_integral():
     """Grains 1e9 times stiffer than the cement: the cement layer alone,
-    k_n = 2 pi M_c int r dr / t(r), t the gap 2 eps R + 2 (R - sqrt(R^2 - r^2)), k_s with G_c, bending pi M_c int r^3/t, twisting 2 pi G_c."""
+    k_n = 2 pi M_c int r dr / t(r), t the gap 2 eps R + 2 (R - sqrt(R^2 - r^2)), k_s with
+    G_c, bending pi M_c int r^3/t, twisting 2 pi G_c."""
     R, alpha, eps, Kc, Gc = 1e-4, 0.5, 0.02, 6.8e9, 2.0e9
     Mc = Kc + 4 * Gc / 3
     s = bond_stiffness(R, alpha, eps, 1e9 * K_GRAIN, 1e9 * G_GRAIN, Kc, Gc)
