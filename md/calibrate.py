@@ -215,6 +215,16 @@ class _Group:
         self.used = ok
 
 
+def _largest_n(group, thickness):
+    """The largest coordination number for which the bonded data's cement radii fit in their
+    pore space (porosity >= 0 in eq. 7 of [HanGuo]_ inverted), over the group's used points."""
+    st, use = group.state, group.used[group.valid]
+    eps = np.asarray(thickness, dtype=float)
+    eps = eps[group.valid][use] if eps.ndim else eps
+    a, phic = st["alpha"][use], st["phic"][use]
+    return float(np.min(phic / ((1.0 - phic) * 0.75 * a**2 * (0.25 * a**2 + eps))))
+
+
 def _predictor(model, group, grain, cement, scheme, stiffness, held, obs_names):
     """``predict(**free) -> {name: array over all points}`` (NaN where the state is not valid).
 
@@ -477,7 +487,19 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
             lo, hi = table[k][2], table[k][3]
             start = float(np.mean(g.data_values[k][g.used])) if k in g.data_values else \
                 table[k][1]
-            spec[k] = inp["free"][k] or (min(max(start, lo), hi), lo, hi)
+            x0, lo, hi = inp["free"][k] or (min(max(start, lo), hi), lo, hi)
+            hi_given = hi
+            if k == "coordination_number" and inp["radius"] and model == "contact_cement" \
+                    and scheme == 1 and "thickness" not in free_names:
+                # Bonded data give the cement radius: above this n the cement would not fit
+                # in the pore space (eq. 7 of [HanGuo]_ gives a negative porosity).
+                hi = min(hi, 0.999 * _largest_n(g, held["thickness"]))
+                if not hi > lo:
+                    raise ValueError(f"{where}: the cement radii of the data leave no "
+                                     f"coordination number above {lo:g} with porosity >= 0")
+                if hi < hi_given and hi < x0 <= hi_given:
+                    x0 = hi
+            spec[k] = (x0, lo, hi)
         fit, pred = _fit_group(g, model, spec, held, inp, scheme, stiffness, absolute_errors,
                                where)
         rows.append({

@@ -321,3 +321,28 @@ def test_models_table_is_consistent():
     for model, table in MODELS.items():
         for name, (default, start, lo, hi, _unit, _doc) in table.items():
             assert lo <= default <= hi and lo <= start <= hi, (model, name)
+
+
+def test_bonded_fit_keeps_n_where_the_cement_fits():
+    """Bonded data (cement radius given): the upper bound of a free coordination number is cut
+    where eq. 7 of Han & Guo would need more cement than the pore space holds, so a fit with
+    a generous bound ends inside the admissible range instead of failing on phi < 0."""
+    import xarray as xr
+
+    import md
+
+    alpha = np.array([0.5, 0.55, 0.6])
+    phic = 0.40
+    n_max = np.min(phic / ((1 - phic) * 0.75 * alpha**2 * (0.25 * alpha**2)))
+    K = np.array([40.0, 45.0, 50.0])             # stiff: the best n lies beyond n_max
+    ds = xr.Dataset({"K": ("radius_ratio", K), "G": ("radius_ratio", K * 1.1),
+                     "porosity": ("radius_ratio", np.full(3, 0.35)),
+                     "porosity_uncemented": ((), phic)},
+                    coords={"radius_ratio": alpha},
+                    attrs={"grain_K": 37.7, "grain_G": 44.0, "cement_K": 15.0,
+                           "cement_G": 8.0})
+    fit = md.calibrate.calibrate(ds, "contact_cement",
+                                 free={"coordination_number": (9.0, 2.0, 60.0)},
+                                 observed=["K", "G"])
+    n = float(fit.value.sel(parameter="coordination_number"))
+    assert 0.9 * n_max < n <= n_max
