@@ -276,9 +276,11 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
 
 
 class BondedModuli(NamedTuple):
-    """Static moduli of a bonded sample, Pa: relaxed ``bulk`` and ``shear`` (mean of the xz,
-    yz and xy shears), ``shear_components`` (xz, yz, xy), and the affine (unrelaxed, grains
-    moved with the mean strain, no rotation) ``bulk_affine`` and ``shear_affine``."""
+    """Static moduli of a bonded sample, Pa: relaxed ``bulk`` and ``shear`` (mean of the xz and
+    yz shears, measured by tractions on horizontal planes), ``shear_components`` (xz, yz, xy;
+    the in-plane xy from the symmetrised in-plane stress, the less exact estimate), and the
+    affine (unrelaxed, grains moved with the mean strain, no rotation) ``bulk_affine`` and
+    ``shear_affine``."""
 
     bulk: float
     shear: float
@@ -350,9 +352,10 @@ def _response(system: BondedSystem, K, strain, relax):
     # Grains not linked to the end slabs (rattlers, floating clusters) carry no load: their
     # links and displacements stay out of the stress and the strain.
     weight = _core_fraction(system) * (live[system.pair_i] & live[system.pair_j])
+    # stress[i, j] = -sum l_i f_j / V: row z (the tractions on horizontal planes) is exact for
+    # a band cut by such planes; the in-plane rows carry the error of the cut.
     stress = -np.einsum("m,mi,mj->ij", weight, system.branch, f_j) / \
         system.metadata["volume_core"]
-    stress = 0.5 * (stress + stress.T)
     # Mean displacement gradient of the core: the x and y derivatives are the imposed ones
     # (the fluctuations are periodic in x and y); the z derivatives are the least-squares
     # slope of the core grains' displacements (less their imposed x, y part) against z.
@@ -374,15 +377,19 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
     The end-slab grains are moved with a macroscopic strain (their rotations held at 0), the
     periodic images in x and y carry the same strain, and the other grains (those linked to
     the end slabs) relax to equilibrium: one sparse direct solve
-    of :math:`K_{ff}\,q_f = -g_f` per strain. Stress: the symmetrised virial
+    of :math:`K_{ff}\,q_f = -g_f` per strain. Stress: the virial
     :math:`\sigma = -\frac1V\sum \mathbf l\otimes\mathbf f_j` over the load-bearing links,
     each weighted by the fraction of its segment inside the core (tension positive); strain:
     the imposed x and y derivatives of the displacement (exact: the fluctuations are periodic)
     and the least-squares z derivatives of the core grains' displacements. Rattlers and
-    clusters not linked to the end slabs carry no load and are left out of both. Bulk:
-    isotropic strain, :math:`K = \tfrac13\mathrm{tr}\,\sigma /
-    \mathrm{tr}\,\varepsilon`; shear: pure shears in xz, yz and xy,
-    :math:`G = \sigma_{ab}/(2\varepsilon_{ab})`, averaged.
+    clusters not linked to the end slabs carry no load and are left out of both. Only the
+    tractions on horizontal planes (:math:`\sigma_{zz}, \sigma_{zx}, \sigma_{zy}`) are exact for
+    a band cut from the sample (the in-plane components depend on how many layers of nearly
+    horizontal links the band holds), so the moduli use them: uniaxial strain along z gives
+    :math:`C_{zzzz}`, isotropic strain then :math:`C_{zzxx} + C_{zzyy}`, and
+    :math:`K = (C_{zzzz} + C_{zzxx} + C_{zzyy})/3` (:math:`(3\lambda + 2\mu)/3` for an
+    isotropic sample); pure shears in xz and yz give :math:`G = \sigma_{za}/(2\varepsilon_{za})`,
+    averaged. The in-plane xy shear is reported beside them.
 
     Parameters
     ----------
@@ -403,17 +410,27 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
         E = np.zeros((3, 3))
         E[a, b] = E[b, a] = 0.5 * strain
         shears.append((E, a, b))
+    uni = np.zeros((3, 3))
+    uni[2, 2] = strain
     out = {}
     for relax in (True, False):
+        # Bulk from tractions on horizontal planes only: uniaxial strain gives M = C_zzzz,
+        # isotropic strain then C_zzxx + C_zzyy, and K = (C_zzzz + C_zzxx + C_zzyy)/3 (for an
+        # isotropic sample (lambda + 2 mu + 2 lambda)/3).
+        s, e = _response(system, K, uni, relax)
+        M = s[2, 2] / e[2, 2]
         s, e = _response(system, K, iso, relax)
-        bulk = np.trace(s) / 3.0 / np.trace(e)
+        lateral = (s[2, 2] - M * e[2, 2]) / strain
+        bulk = (M + lateral) / 3.0
         g = []
         for E, a, b in shears:
             s, e = _response(system, K, E, relax)
-            g.append(s[a, b] / (2.0 * e[a, b]))
+            # xz, yz: the traction on horizontal planes; xy: the symmetrised in-plane estimate.
+            tau = s[b, a] if b == 2 else 0.5 * (s[a, b] + s[b, a])
+            g.append(tau / (2.0 * e[a, b]))
         out[relax] = (float(bulk), tuple(float(v) for v in g))
-    return BondedModuli(out[True][0], float(np.mean(out[True][1])), out[True][1],
-                        out[False][0], float(np.mean(out[False][1])))
+    return BondedModuli(out[True][0], float(np.mean(out[True][1][:2])), out[True][1],
+                        out[False][0], float(np.mean(out[False][1][:2])))
 
 
 def bonded_moduli(pack: Pack, radius_ratios, thickness_ratios=(0.0,), *, cement_bulk,

@@ -157,12 +157,17 @@ def test_rigid_motions_cost_nothing(jittered, rng):
 
 
 def test_relaxed_moduli_do_not_exceed_affine(jittered):
-    """Relaxation lowers the energy; on a lattice with some disorder the relaxed moduli lie
-    below the affine ones but stay close (the lattice is nearly affine)."""
+    """Relaxation lowers the energy. On a nearly affine lattice (jitter 0.08 R) relaxed and
+    affine moduli agree within 1 %; with more disorder (0.25 R) relaxation lowers both by
+    several per cent, more than the estimator's noise."""
     m = static_moduli(jittered)
-    assert 0 < m.bulk <= m.bulk_affine * (1 + 1e-9)
-    assert 0 < m.shear <= m.shear_affine * (1 + 1e-9)
-    assert m.bulk > 0.5 * m.bulk_affine
+    assert m.bulk == pytest.approx(m.bulk_affine, rel=0.01)
+    assert m.shear == pytest.approx(m.shear_affine, rel=0.01)
+    pack, d = lattice_pack(n=(4, 4, 8), jitter=0.25, seed=3)
+    rough = static_moduli(bonded_system(pack, 0.35, 0.0, cement_bulk=15e9, cement_shear=8e9,
+                                        contact_gap=0.5 * d))
+    assert rough.bulk < 0.98 * rough.bulk_affine
+    assert rough.shear < 0.98 * rough.shear_affine
 
 
 def test_distant_bonding_is_softer_and_grid_dataset():
