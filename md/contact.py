@@ -144,7 +144,8 @@ def damping_parameter(e_n: float) -> float:
 
 
 def hertz_force(xi, R_f, E_f):
-    """Elastic Hertz force :math:`\\tfrac43 E_f \\sqrt{R_f}\\,\\xi^{3/2}` (N) for overlap ``xi`` (m)."""
+    """Elastic Hertz force :math:`\\tfrac43 E_f \\sqrt{R_f}\\,\\xi^{3/2}` (N) for overlap ``xi``
+    (m)."""
     xi = np.asarray(xi, dtype=float)
     return 4.0 / 3.0 * E_f * np.sqrt(R_f) * np.maximum(xi, 0.0) ** 1.5
 

@@ -8,7 +8,8 @@ __all__ = ["contact_stress"]
 
 
 def contact_stress(x, r, pairs, box, material, *, z_range=None):
-    r"""Static contact stress tensor :math:`\sigma = \frac1V \sum_c \mathbf f_c \otimes \mathbf l_c`.
+    r"""Static contact stress tensor
+    :math:`\sigma = \frac1V \sum_c \mathbf f_c \otimes \mathbf l_c`.
 
     Sum over the overlapping pairs of the elastic Hertz force on ``j`` (:math:`\mathbf f_c`,
     along the branch vector :math:`\mathbf l_c` from ``i`` to ``j``, minimum image in x and y) —
@@ -32,7 +33,7 @@ def contact_stress(x, r, pairs, box, material, *, z_range=None):
     keep = (xi > 0) & (mid >= z0) & (mid <= z1)
     R_f = ri[keep] * rj[keep] / (ri[keep] + rj[keep])
     fn = 4.0 / 3.0 * material.E_f * np.sqrt(R_f) * xi[keep] ** 1.5
-    l = d[keep]
-    f = fn[:, None] * l / dist[keep][:, None]
+    branch = d[keep]
+    f = fn[:, None] * branch / dist[keep][:, None]
     volume = box.lx * box.ly * (z1 - z0)
-    return np.einsum("ci,cj->ij", f, l) / volume
+    return np.einsum("ci,cj->ij", f, branch) / volume

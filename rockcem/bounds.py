@@ -200,7 +200,9 @@ def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
 def hashin_shtrikman_average(K, G, fractions) -> Moduli:
     r"""Mean of the Hashin–Shtrikman bounds, eq. C.3 of [Carcione2022]_.
 
-    .. math:: K_s = \tfrac12 (K^+_{HS} + K^-_{HS}), \qquad \mu_s = \tfrac12 (\mu^+_{HS} + \mu^-_{HS})
+    .. math::
+
+        K_s = \tfrac12 (K^+_{HS} + K^-_{HS}), \qquad \mu_s = \tfrac12 (\mu^+_{HS} + \mu^-_{HS})
 
     Same parameters as :func:`hashin_shtrikman`; returns ``Moduli`` of shape ``(...)``.
     """

@@ -303,7 +303,8 @@ def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
     :math:`C_n` exponent -1.9864, :math:`B_n` exponent -0.89008, :math:`A_\tau` exponent
     :math:`0.079\nu^2+0.1754\nu-1.342`, :math:`C_\tau` exponent
     :math:`0.01867\nu^2+0.4011\nu-1.8186` and :math:`C_\tau > 0`. [Xu2023]_ (eq. A-8) prints
-    -1.9846, -0.8908 and a negative :math:`C_\tau`; those are transcription variants of the same fit.
+    -1.9846, -0.8908 and a negative :math:`C_\tau`; those are transcription variants of the
+    same fit.
     """
     An = -0.024153 * Lambda_n**-1.3646
     Bn = 0.20405 * Lambda_n**-0.89008
@@ -311,7 +312,8 @@ def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
     nu2 = nu0 * nu0
     At = -1e-2 * (2.26 * nu2 + 2.07 * nu0 + 2.3) * Lambda_t ** (0.079 * nu2 + 0.1754 * nu0 - 1.342)
     Bt = (0.0573 * nu2 + 0.0937 * nu0 + 0.202) * Lambda_t ** (0.0274 * nu2 + 0.0529 * nu0 - 0.8765)
-    Ct = 1e-4 * (9.654 * nu2 + 4.945 * nu0 + 3.1) * Lambda_t ** (0.01867 * nu2 + 0.4011 * nu0 - 1.8186)
+    Ct = 1e-4 * (9.654 * nu2 + 4.945 * nu0 + 3.1) \
+        * Lambda_t ** (0.01867 * nu2 + 0.4011 * nu0 - 1.8186)
     Sn = An * alpha**2 + Bn * alpha + Cn
     St = At * alpha**2 + Bt * alpha + Ct
     return Sn, St
