@@ -26,9 +26,10 @@ tangential problem the Cerruti kernel averaged over the contact gives the same e
 
 The equation is discretised by collocation with piecewise-constant :math:`\hat\sigma` on
 ``panels`` panels graded toward the axis and the rim (:math:`u_j = \sin^2(\pi j / 2N)`,
-:math:`t = \alpha u`), where the stress varies fastest; the panel integrals of the logarithmically singular kernel are done by adaptive quadrature next to
-the collocation point and by Gauss–Legendre elsewhere. The unit-geometry matrix is built once
-per ``panels`` and cached, so each point costs one dense ``panels × panels`` solve.
+:math:`t = \alpha u`), where the stress varies fastest; the panel integrals of the
+logarithmically singular kernel are done by adaptive quadrature next to the collocation point
+and by Gauss–Legendre elsewhere. The unit-geometry matrix is built once per ``panels`` and
+cached, so each point costs one dense ``panels × panels`` solve.
 """
 
 from __future__ import annotations

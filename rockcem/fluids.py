@@ -1,4 +1,5 @@
-"""Fluid substitution: Gassmann's equation, the generalized multi-mineral Gassmann modulus, inverses.
+"""Fluid substitution: Gassmann's equation, the generalized multi-mineral Gassmann modulus and
+their inverses.
 
 Moduli in GPa, porosity and fractions as fractions. The shear modulus is unaffected by the fluid
 in all of these (it is returned by no function here: ``G_sat = G_dry``).
