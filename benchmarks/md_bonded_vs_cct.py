@@ -108,8 +108,7 @@ def main(argv=None):
           f"sigma_zz {rec['stress_zz'][-1] / 1e6:.2f} MPa, porosity {rec['porosity'][-1]:.4f}",
           flush=True)
     G0 = md.QUARTZ.shear_modulus / 1e9
-    nu0 = md.QUARTZ.poisson_ratio
-    K0 = 2 * G0 * (1 + nu0) / (3 * (1 - 2 * nu0))
+    K0 = md.QUARTZ.bulk_modulus / 1e9
     rows = []
     cases = [("contact", a, 0.0, CONTACT_CEMENT) for a in radii]
     cases += [("distant", a, h, DISTANT_CEMENT) for h in thick for a in radii]

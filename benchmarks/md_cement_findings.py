@@ -26,11 +26,11 @@ from _common import (RESULTS, environment_attrs, result_path, save_figure, write
 def theory(ds, sample, cement, scheme):
     """CCT Vp (km/s) of the sample at the scene's saturations (quartz grains of Table I)."""
     from md.cement import HARD_CEMENT, SOFT_CEMENT
+    from md.contact import QUARTZ
     from rockcem.granular import contact_cement
 
     c = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}[cement]
-    G0, nu = 44.0, 0.08
-    K0 = 2 * G0 * (1 + nu) / (3 * (1 - 2 * nu))
+    G0, K0 = QUARTZ.shear_modulus / 1e9, QUARTZ.bulk_modulus / 1e9
     Gc = c.shear_modulus / 1e9
     Kc = c.p_modulus / 1e9 - 4 / 3 * Gc
     phi0 = float(ds.porosity_uncemented.sel(sample=sample))

@@ -107,13 +107,6 @@ def _flat(sub, name, ref, point_dims):
     return np.asarray(var.broadcast_like(ref).transpose(*point_dims).values, dtype=float).ravel()
 
 
-def _radius_porosity(alpha, phic, n, scheme, eps):
-    """Porosity whose cement radius is ``alpha``: :func:`rockcem.granular.cement_porosity`."""
-    from rockcem.granular import cement_porosity
-
-    return cement_porosity(alpha, phic, n, scheme, eps)
-
-
 class _Group:
     """The rock state and observations of one fit, flattened over the point dimensions.
 
@@ -176,7 +169,7 @@ def _predictor(model, group, grain, cement, scheme, stiffness, held, obs_names):
 
     ``held`` values are scalars or arrays over all points."""
     from rockcem.elastic import velocities
-    from rockcem.granular import contact_cement, patchy_cement
+    from rockcem.granular import cement_porosity, contact_cement, patchy_cement
 
     g, st = group, group.state
     held = {k: (v[g.valid] if np.ndim(v) else v) for k, v in held.items()}
@@ -186,7 +179,7 @@ def _predictor(model, group, grain, cement, scheme, stiffness, held, obs_names):
         n, eps, phic = p["coordination_number"], p["thickness"], st["phic"]
         if model == "contact_cement":
             if "alpha" in st:
-                phi = _radius_porosity(st["alpha"], phic, n, scheme, eps)
+                phi = cement_porosity(st["alpha"], phic, n, scheme, eps)
             else:
                 phi = phic - p["cement_efficiency"] * (phic - st["porosity"])
             m = contact_cement(grain.K, grain.G, cement.K, cement.G, phi, phic, n, scheme, eps,

@@ -228,6 +228,15 @@ def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells,
 # recomputes the sums on the leaf's path from the children, so a node whose leaves are all 0 is
 # exactly 0 (no drift from incremental updates).
 
+@njit(cache=True, inline="always")
+def _group_sum(tree, start, fanout):
+    """Sum of the ``fanout`` entries of ``tree`` from ``start`` (one group of children)."""
+    s = 0.0
+    for i in range(fanout):
+        s += tree[start + i]
+    return s
+
+
 @njit(cache=True)
 def _tree_set(tree, offsets, fanout, c, weight):
     """Set the weight of cell ``c`` and recompute the sums above it. O(K log_K n)."""
@@ -235,11 +244,7 @@ def _tree_set(tree, offsets, fanout, c, weight):
     e = c
     for lev in range(1, offsets.size):
         e //= fanout
-        child = offsets[lev - 1] + e * fanout
-        s = 0.0
-        for i in range(fanout):
-            s += tree[child + i]
-        tree[offsets[lev] + e] = s
+        tree[offsets[lev] + e] = _group_sum(tree, offsets[lev - 1] + e * fanout, fanout)
 
 
 @njit(cache=True)
@@ -247,21 +252,13 @@ def tree_build(tree, offsets, fanout):
     """All sums of the tree from the weights in level 0. O(n)."""
     for lev in range(1, offsets.size):
         for e in range((offsets[lev] - offsets[lev - 1]) // fanout):
-            child = offsets[lev - 1] + e * fanout
-            s = 0.0
-            for i in range(fanout):
-                s += tree[child + i]
-            tree[offsets[lev] + e] = s
+            tree[offsets[lev] + e] = _group_sum(tree, offsets[lev - 1] + e * fanout, fanout)
 
 
 @njit(cache=True)
 def tree_total(tree, offsets, fanout):
     """Sum of all weights (the top group)."""
-    top = offsets[offsets.size - 1]
-    s = 0.0
-    for i in range(fanout):
-        s += tree[top + i]
-    return s
+    return _group_sum(tree, offsets[offsets.size - 1], fanout)
 
 
 @njit(cache=True)

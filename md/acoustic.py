@@ -63,6 +63,14 @@ def damping_ratio(restitution) -> float:
     return -ln / math.sqrt(math.pi**2 + ln**2)
 
 
+def dashpots(kn, kt, m_i, m_j, zeta):
+    """Normal and tangential dashpots :math:`2\\zeta\\sqrt{k\\,m_{ij}}` of springs ``kn``, ``kt``
+    between masses ``m_i`` and ``m_j`` (reduced mass :math:`m_{ij}`), damping ratio ``zeta``
+    (:func:`damping_ratio`), N s/m."""
+    m_red = m_i * m_j / (m_i + m_j)
+    return 2.0 * zeta * np.sqrt(kn * m_red), 2.0 * zeta * np.sqrt(kt * m_red)
+
+
 @dataclass(frozen=True)
 class AcousticSystem:
     """Particles and bonds of the linearised acoustic stage.
@@ -272,9 +280,8 @@ def _contact_bonds_grains(pack: Pack, m, zeta):
     a = np.sqrt(R_f * xi)
     kn = 2.0 * mat.E_f * a
     kt = 8.0 * mat.G_f * a
-    m_red = m[p[:, 0]] * m[p[:, 1]] / (m[p[:, 0]] + m[p[:, 1]])
-    return (p[:, 0], p[:, 1], d / dist[:, None], kn, kt, 2 * zeta * np.sqrt(kn * m_red),
-            2 * zeta * np.sqrt(kt * m_red))
+    gn, gt = dashpots(kn, kt, m[p[:, 0]], m[p[:, 1]], zeta)
+    return p[:, 0], p[:, 1], d / dist[:, None], kn, kt, gn, gt
 
 
 def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=None,
@@ -361,7 +368,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     a = 0.5 * cw
     kn_gc = np.full(n_gc, 2.0 * E_star * a)
     kt_gc = np.full(n_gc, 8.0 * G_star * a)
-    m_red = m_grain[ci] * m_c / (m_grain[ci] + m_c)
+    gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
     centres = lattice.centres()[cemented]
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
@@ -371,8 +378,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         np.concatenate([x, centres]), np.concatenate([m_grain, np.full(n_c, m_c)]), n_g,
         pack.box, bond_i, bond_j, np.concatenate([gnrm, cnrm]),
         np.concatenate([gkn, kn_gc]), np.concatenate([gkt, kt_gc]),
-        np.concatenate([ggn, 2 * zeta * np.sqrt(kn_gc * m_red)]),
-        np.concatenate([ggt, 2 * zeta * np.sqrt(kt_gc * m_red)]),
+        np.concatenate([ggn, gn_gc]), np.concatenate([ggt, gt_gc]),
         table, lat_kn, lat_kt, thickness, extent, meta)
 
 

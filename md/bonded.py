@@ -31,6 +31,7 @@ left out, as in :mod:`md.acoustic`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -57,7 +58,8 @@ class BondedSystem:
         m (reduced to :math:`R/(1 + \varepsilon)` for distant bonding).
     box : Box
     pair_i, pair_j : ndarray of int64
-        Grains of every link (bonds, then bare Hertz contacts).
+        Grains of every bond (at contact bonding each with the pair's Hertz contact in
+        parallel).
     branch : ndarray, shape (m, 3)
         Vector from ``i`` to ``j`` (minimum image), m.
     shift : ndarray, shape (m, 3)
@@ -70,9 +72,9 @@ class BondedSystem:
         Grains of the two end slabs, whose motion is prescribed.
     core : (float, float)
         z range of the core where stress and strain are measured, m.
+    bond_volume : ndarray
+        Cement volume of every bond, m³ (:func:`bond_cement_volume`).
     metadata : dict
-    bond_volume : ndarray, optional
-        Cement volume of every bond, m³ (:func:`bond_cement_volume`; zero for bare contacts).
     """
 
     positions: np.ndarray
@@ -90,13 +92,14 @@ class BondedSystem:
     kw: np.ndarray
     boundary: np.ndarray
     core: tuple
+    bond_volume: np.ndarray
     metadata: dict = field(default_factory=dict)
-    bond_volume: np.ndarray | None = None
 
     @property
     def n_grains(self) -> int:
         return int(self.radii.size)
 
+    @cached_property
     def frames(self):
         """Unit normal and two tangents of every link, each shape (m, 3)."""
         n = self.branch / np.linalg.norm(self.branch, axis=1)[:, None]
@@ -105,10 +108,11 @@ class BondedSystem:
         t1 /= np.linalg.norm(t1, axis=1)[:, None]
         return n, t1, np.cross(n, t1)
 
+    @cached_property
     def _b_matrices(self):
         """Per link the 6 x 12 map from (u_i, theta_i, u_j, theta_j) to the local measures
         (delta . e, for e = n, t1, t2; then dtheta . e)."""
-        n, t1, t2 = self.frames()
+        n, t1, t2 = self.frames
         m = n.shape[0]
         B = np.zeros((m, 6, 12))
         for row, e in enumerate((n, t1, t2)):
@@ -119,11 +123,13 @@ class BondedSystem:
             B[:, row, 9:12] = self.arm_j[:, None] * exn
             B[:, 3 + row, 3:6] = -e
             B[:, 3 + row, 9:12] = e
-        return B, (n, t1, t2)
+        return B
 
+    @cached_property
     def _d(self):
         return np.stack([self.kn, self.ks, self.ks, self.kw, self.kb, self.kb], axis=1)
 
+    @cached_property
     def _dofs(self):
         i, j = self.pair_i, self.pair_j
         return np.concatenate([6 * i[:, None] + np.arange(6), 6 * j[:, None] + np.arange(6)],
@@ -133,9 +139,9 @@ class BondedSystem:
         """:math:`K` (6n x 6n, ``scipy.sparse`` CSR): N/m, N/rad, N m/m, N m/rad blocks."""
         import scipy.sparse as sp
 
-        B, _ = self._b_matrices()
-        Kb = np.einsum("mai,ma,maj->mij", B, self._d(), B)
-        dof = self._dofs()
+        B = self._b_matrices
+        Kb = np.einsum("mai,ma,maj->mij", B, self._d, B)
+        dof = self._dofs
         rows = np.repeat(dof, 12, axis=1).ravel()
         cols = np.tile(dof, (1, 12)).ravel()
         size = 6 * self.n_grains
@@ -145,15 +151,20 @@ class BondedSystem:
         """Force on ``j`` of every link (global frame), N, for the degrees of freedom ``q``
         (shape (n, 6)) under the macroscopic ``strain`` (3 x 3) carried by the periodic
         image shifts."""
-        B, (n, t1, t2) = self._b_matrices()
-        dof = self._dofs()
-        local = np.einsum("mai,mi->ma", B, q.reshape(-1)[dof])
-        shift = self.shift @ np.asarray(strain, dtype=float).T
-        for row, e in enumerate((n, t1, t2)):
-            local[:, row] += np.einsum("mi,mi->m", e, shift)
-        k = self._d()
-        f = k[:, :3] * local[:, :3]
+        n, t1, t2 = self.frames
+        local = np.einsum("mai,mi->ma", self._b_matrices, q.reshape(-1)[self._dofs]) \
+            + self._shift_measures(strain)
+        f = self._d[:, :3] * local[:, :3]
         return -(f[:, [0]] * n + f[:, [1]] * t1 + f[:, [2]] * t2)
+
+    def _shift_measures(self, strain):
+        """The local measures (m, 6) that the macroscopic ``strain`` adds to the links crossing
+        the periodic boundaries: :math:`(E\\,\\mathbf s)\\cdot\\mathbf e` (no rotation)."""
+        shift = self.shift @ np.asarray(strain, dtype=float).T
+        c = np.zeros((self.shift.shape[0], 6))
+        for row, e in enumerate(self.frames):
+            c[:, row] = np.einsum("mi,mi->m", e, shift)
+        return c
 
 
 def _pairs(pack: Pack, gap):
@@ -226,8 +237,7 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     radii = r0 / (1.0 + eps)
     ri, rj = radii[p[:, 0]], radii[p[:, 1]]
     R_bar = 2.0 * ri * rj / (ri + rj)
-    nu = mat.poisson_ratio
-    K_grain = 2.0 * mat.shear_modulus * (1 + nu) / (3 * (1 - 2 * nu))
+    K_grain = mat.bulk_modulus
     bs = bond_stiffness(R_bar, alpha, eps, K_grain, mat.shear_modulus, cement_bulk,
                         cement_shear)
     kn, ks, kb, kw = (np.array(v, dtype=float) for v in bs)
@@ -249,18 +259,18 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
     boundary = (x[:, 2] < z_lo) | (x[:, 2] > z_hi)
     if not (np.any(x[:, 2] < z_lo) and np.any(x[:, 2] > z_hi)):
         raise ValueError(f"slab: both end slabs must hold grains; got slab = {slab}")
-    mid = x[p[:, 0], 2] + 0.5 * branch[:, 2]
-    in_core = (mid >= z_lo) & (mid < z_hi)
     volume_core = pack.box.lx * pack.box.ly * (z_hi - z_lo)
     from .protocols import porosity as pack_porosity
 
     shrunk = Pack(x, pack.velocities, pack.angular_velocities, radii, pack.box, mat,
                   pack.pairs, pack.history) if eps else pack
     phi_grains = pack_porosity(shrunk, bottom=z_lo, top=z_hi)
-    cement_volume = float(np.sum(bond_cement_volume(R_bar[in_core], alpha, eps)))
+    bond_volume = bond_cement_volume(R_bar, alpha, eps)
+    # The cement in the core, each bond weighted as in the stress average (_core_fraction).
+    cement_volume = float(bond_volume @ _segment_fraction(x[p[:, 0], 2], branch[:, 2],
+                                                          z_lo, z_hi))
     core_grains = ~boundary
     counts = np.bincount(p.ravel(), minlength=r0.size)
-    bond_volume = bond_cement_volume(R_bar, alpha, eps)
     meta = {"radius_ratio": alpha, "thickness_ratio": eps, "cement_bulk": float(cement_bulk),
             "cement_shear": float(cement_shear), "grain_bulk": K_grain,
             "grain_shear": mat.shear_modulus, "mean_radius": float(r0.mean()),
@@ -269,10 +279,11 @@ def bonded_system(pack: Pack, radius_ratio, thickness_ratio=0.0, *, cement_bulk,
             "cement_fraction": cement_volume / volume_core,
             "coordination_number": float(counts[core_grains].mean()),
             "n_bonds": int(p.shape[0]), "volume_core": volume_core,
-            "grain_volume_fraction": 1.0 - phi_grains, "grain_density": mat.density}
+            "grain_volume_fraction": 1.0 - phi_grains, "grain_density": mat.density,
+            "restitution": mat.restitution}
     return BondedSystem(x, radii, pack.box, p[:, 0], p[:, 1], branch, shift, arm_i, arm_j,
-                        kn, ks, kb, kw, boundary, (float(z_lo), float(z_hi)), meta,
-                        bond_volume)
+                        kn, ks, kb, kw, boundary, (float(z_lo), float(z_hi)), bond_volume,
+                        meta)
 
 
 class BondedModuli(NamedTuple):
@@ -307,68 +318,78 @@ def _core_fraction(system: BondedSystem):
     For the tractions on the core's planes (zz, xz, yz) this is exact; the in-plane
     components (xx, yy, xy) of links that do not cross z carry the error of cutting the
     sample at a height (a flat link lying on a core plane counts one half)."""
-    z_lo, z_hi = system.core
-    za = system.positions[system.pair_i, 2]
-    zb = za + system.branch[:, 2]
+    return _segment_fraction(system.positions[system.pair_i, 2], system.branch[:, 2],
+                             *system.core)
+
+
+def _segment_fraction(za, dz, z_lo, z_hi):
+    """Fraction of the segments from heights ``za`` to ``za + dz`` inside ``[z_lo, z_hi]``;
+    a horizontal segment counts 1 inside, 0 outside, one half on a bounding plane."""
+    zb = za + dz
     lo, hi = np.minimum(za, zb), np.maximum(za, zb)
     span = hi - lo
     inside = np.clip(np.minimum(hi, z_hi) - np.maximum(lo, z_lo), 0.0, None)
-    tol = 1e-9 * np.abs(system.branch).max()
+    tol = 1e-9 * max(float(np.abs(dz).max()), abs(z_hi - z_lo))
     flat = span <= tol
     on_plane = (np.abs(lo - z_lo) <= tol) | (np.abs(lo - z_hi) <= tol)
     flat_weight = np.where(on_plane, 0.5, ((lo > z_lo) & (lo < z_hi)).astype(float))
     return np.where(flat, flat_weight, inside / np.where(flat, 1.0, span))
 
 
-def _response(system: BondedSystem, K, strain, relax):
-    """Stress (virial of the core links, tension positive) and least-squares strain of the
-    core grains for a macroscopic ``strain`` imposed on the end slabs and the periodic
-    images."""
-    from scipy.sparse.linalg import spsolve
+class _StaticSolver:
+    """Everything :func:`static_moduli` needs from one system, built once: the stiffness
+    matrix, the load-bearing grains, the factorised free block, the stress weights of the
+    links and the core grains of the strain fit."""
 
-    E = np.asarray(strain, dtype=float)
-    n = system.n_grains
-    x = system.positions
-    q = np.zeros((n, 6))
-    q[:, :3] = x @ E.T                                   # affine start, no rotation
-    live = _connected(system)
-    if relax:
+    def __init__(self, system: BondedSystem):
+        from scipy.sparse.linalg import factorized
+
+        self.system = system
+        self.K = system.stiffness_matrix()
+        live = _connected(system)
         free = live & ~system.boundary
-        free_dof = (6 * np.flatnonzero(free)[:, None] + np.arange(6)).ravel()
-        # Gradient of the energy at the affine state: K q + (shift terms).
-        B, frames = system._b_matrices()
-        dof = system._dofs()
-        shift = system.shift @ E.T
-        c = np.zeros((system.pair_i.size, 6))
-        for row, e in enumerate(frames):
-            c[:, row] = np.einsum("mi,mi->m", e, shift)
-        g_shift = np.zeros(6 * n)
-        np.add.at(g_shift, dof.ravel(), np.einsum("mai,ma,ma->mi", B, system._d(), c).ravel())
-        grad = K @ q.ravel() + g_shift
-        Kff = K[free_dof][:, free_dof].tocsc()
-        dq = spsolve(Kff, -grad[free_dof])
-        q.reshape(-1)[free_dof] += dq
-    f_j = system.link_forces(q, E)
-    # Grains not linked to the end slabs (rattlers, floating clusters) carry no load: their
-    # links and displacements stay out of the stress and the strain.
-    weight = _core_fraction(system) * (live[system.pair_i] & live[system.pair_j])
-    # stress[i, j] = -sum l_i f_j / V: row z (the tractions on horizontal planes) is exact for
-    # a band cut by such planes; the in-plane rows carry the error of the cut.
-    stress = -np.einsum("m,mi,mj->ij", weight, system.branch, f_j) / \
-        system.metadata["volume_core"]
-    # Mean displacement gradient of the core: the x and y derivatives are the imposed ones
-    # (the fluctuations are periodic in x and y); the z derivatives are the least-squares
-    # slope of the core grains' displacements (less their imposed x, y part) against z.
-    z_lo, z_hi = system.core
-    inside = live & ~system.boundary & (x[:, 2] >= z_lo) & (x[:, 2] < z_hi)
-    if not inside.any() or np.ptp(x[inside, 2]) <= 0.0:
-        raise ValueError("the core holds no load-bearing grains at different heights; make "
-                         "the sample taller or the end slabs thinner")
-    grad_u = E.copy()
-    rest = q[inside, :3] - x[inside, :2] @ E[:, :2].T
-    zc = x[inside, 2] - x[inside, 2].mean()
-    grad_u[:, 2] = zc @ (rest - rest.mean(axis=0)) / (zc @ zc)
-    return stress, 0.5 * (grad_u + grad_u.T)
+        self.free_dof = (6 * np.flatnonzero(free)[:, None] + np.arange(6)).ravel()
+        self.solve = factorized(self.K[self.free_dof][:, self.free_dof].tocsc())
+        # Grains not linked to the end slabs (rattlers, floating clusters) carry no load: their
+        # links and displacements stay out of the stress and the strain.
+        self.weight = _core_fraction(system) * (live[system.pair_i] & live[system.pair_j])
+        x = system.positions
+        z_lo, z_hi = system.core
+        self.inside = live & ~system.boundary & (x[:, 2] >= z_lo) & (x[:, 2] < z_hi)
+        if not self.inside.any() or np.ptp(x[self.inside, 2]) <= 0.0:
+            raise ValueError("the core holds no load-bearing grains at different heights; "
+                             "make the sample taller or the end slabs thinner")
+
+    def response(self, strain, relax):
+        """Stress (virial of the core links, tension positive) and mean strain of the core
+        for a macroscopic ``strain`` imposed on the end slabs and the periodic images."""
+        system = self.system
+        E = np.asarray(strain, dtype=float)
+        x = system.positions
+        q = np.zeros((system.n_grains, 6))
+        q[:, :3] = x @ E.T                               # affine start, no rotation
+        if relax:
+            # Gradient of the energy at the affine state: K q + B^T D c (the shift terms).
+            g_shift = np.zeros(q.size)
+            np.add.at(g_shift, system._dofs.ravel(),
+                      np.einsum("mai,ma,ma->mi", system._b_matrices, system._d,
+                                system._shift_measures(E)).ravel())
+            grad = self.K @ q.ravel() + g_shift
+            q.reshape(-1)[self.free_dof] -= self.solve(grad[self.free_dof])
+        f_j = system.link_forces(q, E)
+        # stress[i, j] = -sum l_i f_j / V: row z (the tractions on horizontal planes) is exact
+        # for a band cut by such planes; the in-plane rows carry the error of the cut.
+        stress = -np.einsum("m,mi,mj->ij", self.weight, system.branch, f_j) / \
+            system.metadata["volume_core"]
+        # Mean displacement gradient of the core: the x and y derivatives are the imposed ones
+        # (the fluctuations are periodic in x and y); the z derivatives are the least-squares
+        # slope of the core grains' displacements (less their imposed x, y part) against z.
+        inside = self.inside
+        grad_u = E.copy()
+        rest = q[inside, :3] - x[inside, :2] @ E[:, :2].T
+        zc = x[inside, 2] - x[inside, 2].mean()
+        grad_u[:, 2] = zc @ (rest - rest.mean(axis=0)) / (zc @ zc)
+        return stress, 0.5 * (grad_u + grad_u.T)
 
 
 def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
@@ -403,7 +424,7 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
     """
     if not (np.isfinite(strain) and strain > 0):
         raise ValueError(f"strain must be finite and > 0; got {strain}")
-    K = system.stiffness_matrix()
+    solver = _StaticSolver(system)
     iso = strain * np.eye(3)
     shears = []
     for a, b in ((0, 2), (1, 2), (0, 1)):
@@ -417,14 +438,14 @@ def static_moduli(system: BondedSystem, *, strain=1e-6) -> BondedModuli:
         # Bulk from tractions on horizontal planes only: uniaxial strain gives M = C_zzzz,
         # isotropic strain then C_zzxx + C_zzyy, and K = (C_zzzz + C_zzxx + C_zzyy)/3 (for an
         # isotropic sample (lambda + 2 mu + 2 lambda)/3).
-        s, e = _response(system, K, uni, relax)
+        s, e = solver.response(uni, relax)
         M = s[2, 2] / e[2, 2]
-        s, e = _response(system, K, iso, relax)
+        s, e = solver.response(iso, relax)
         lateral = (s[2, 2] - M * e[2, 2]) / strain
         bulk = (M + lateral) / 3.0
         g = []
         for E, a, b in shears:
-            s, e = _response(system, K, E, relax)
+            s, e = solver.response(E, relax)
             # xz, yz: the traction on horizontal planes; xy: the symmetrised in-plane estimate.
             tau = s[b, a] if b == 2 else 0.5 * (s[a, b] + s[b, a])
             g.append(tau / (2.0 * e[a, b]))
@@ -554,23 +575,20 @@ def bonded_acoustic_system(system: BondedSystem, *, cement_density=None, restitu
     -------
     AcousticSystem
     """
-    from .acoustic import AcousticSystem, damping_ratio
+    from .acoustic import AcousticSystem, damping_ratio, dashpots
 
     rho_g = system.metadata["grain_density"]
     rho_c = rho_g if cement_density is None else float(cement_density)
     if not (np.isfinite(rho_c) and rho_c > 0):
         raise ValueError(f"cement_density must be > 0 kg/m3; got {cement_density}")
-    e = 0.9 if restitution is None else float(restitution)
+    e = system.metadata["restitution"] if restitution is None else float(restitution)
     zeta = damping_ratio(e)
     r = system.radii
-    m = rho_g * 4.0 / 3.0 * np.pi * r**3
-    if system.bond_volume is not None:
-        half = 0.5 * rho_c * system.bond_volume
-        m = m + np.bincount(system.pair_i, half, r.size) + np.bincount(system.pair_j, half,
-                                                                          r.size)
     i, j = system.pair_i, system.pair_j
-    m_red = m[i] * m[j] / (m[i] + m[j])
-    normal = system.branch / np.linalg.norm(system.branch, axis=1)[:, None]
+    half = 0.5 * rho_c * system.bond_volume
+    m = rho_g * 4.0 / 3.0 * np.pi * r**3 + np.bincount(i, half, r.size) \
+        + np.bincount(j, half, r.size)
+    gn, gt = dashpots(system.kn, system.ks, m[i], m[j], zeta)
     thickness = 4.0 * float(r.max()) if slab_thickness is None else float(slab_thickness)
     if not thickness > 0:
         raise ValueError(f"slab_thickness must be > 0 m; got {slab_thickness}")
@@ -582,6 +600,5 @@ def bonded_acoustic_system(system: BondedSystem, *, cement_density=None, restitu
             "thickness_ratio": system.metadata["thickness_ratio"]}
     return AcousticSystem(
         system.positions.copy(), m, system.n_grains, system.box, i.astype(np.int32),
-        j.astype(np.int32), normal, system.kn.copy(), system.ks.copy(),
-        2 * zeta * np.sqrt(system.kn * m_red), 2 * zeta * np.sqrt(system.ks * m_red),
+        j.astype(np.int32), system.frames[0], system.kn.copy(), system.ks.copy(), gn, gt,
         np.zeros((0, 9), np.int32), np.zeros(9), np.zeros(9), thickness, extent, meta)

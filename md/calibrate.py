@@ -62,8 +62,7 @@ import numpy as np
 __all__ = ["MODELS", "calibrate", "as_mineral", "write_calibration"]
 
 from ._calibrate_groups import (MODELS, _OBSERVABLES, _REFERENCES,  # noqa: E402, F401
-                                _fit_group, _Group, _inputs, _largest_n,
-                                _radius_porosity, as_mineral)
+                                _fit_group, _Group, _inputs, _largest_n, as_mineral)
 
 
 def calibrate(data, model="contact_cement", *, free=("coordination_number",), fixed=None,

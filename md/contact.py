@@ -77,6 +77,11 @@ class GrainMaterial:
         return 2.0 * self.shear_modulus * (1.0 + self.poisson_ratio)
 
     @property
+    def bulk_modulus(self) -> float:
+        """:math:`K = 2G(1+\\nu)/(3(1-2\\nu))`, Pa."""
+        return self.young_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+
+    @property
     def E_f(self) -> float:
         """Effective contact modulus :math:`E/(2(1-\\nu^2))`, Pa."""
         return self.young_modulus / (2.0 * (1.0 - self.poisson_ratio**2))

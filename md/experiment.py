@@ -11,6 +11,7 @@ file gives the compaction stress in MPa.
 from __future__ import annotations
 
 import difflib
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -119,19 +120,42 @@ def md_scene_from_dict(raw: dict) -> dict:
             "output": str(raw.get("output", f"{raw.get('name', 'md')}.nc")), "md": p}
 
 
-def _pulse_sweep(pack, params, cement, path, progress):
+class _Cementation:
+    """The cement lattice of one pack and its cemented cells per (scheme, S_c), built on first
+    use and shared by the cements (hard and soft cement fill the same cells)."""
+
+    def __init__(self, pack, params):
+        self.pack, self.params, self._cells = pack, params, {}
+
+    @cached_property
+    def lattice(self):
+        from .cement import cement_lattice
+
+        return cement_lattice(self.pack, self.params["resolution"])
+
+    def cells(self, scheme, saturation):
+        from .cement import grow_cement
+
+        key = (scheme, saturation)
+        if key not in self._cells:
+            self._cells[key] = grow_cement(self.lattice, saturation, scheme,
+                                           seed=self.params["seed"])
+        return self._cells[key]
+
+
+def _pulse_sweep(cementation, cement, path, progress):
     """Vp(scheme, saturation) of one pack and cement, saved to ``path`` (resumed if there)."""
     import xarray as xr
     from tqdm.auto import tqdm
 
     from .acoustic import acoustic_system, pulse_test
-    from .cement import cement_lattice, grow_cement
     from .state import _atomic_netcdf
 
     if path.exists():
         with xr.open_dataset(path, engine="netcdf4") as ds:
             return ds.load()
-    lat = cement_lattice(pack, params["resolution"])
+    pack, params = cementation.pack, cementation.params
+    lat = cementation.lattice
     schemes, sats = params["schemes"], params["saturations"]
     shape = (len(schemes), len(sats))
     out = {k: np.full(shape, np.nan) for k in ("v", "err", "fit", "static", "density")}
@@ -139,8 +163,7 @@ def _pulse_sweep(pack, params, cement, path, progress):
                desc=f"pulse tests {path.stem}")
     for a, scheme in enumerate(schemes):
         for b, s in enumerate(sats):
-            cem = grow_cement(lat, s, scheme, seed=params["seed"])
-            system = acoustic_system(pack, lat, cem, cement)
+            system = acoustic_system(pack, lat, cementation.cells(scheme, s), cement)
             ds = pulse_test(system, params["wave"], time_step_factor=params["time_step_factor"])
             for key, var in (("v", "velocity"), ("err", "velocity_error"),
                              ("fit", "velocity_fit"), ("static", "velocity_static"),
@@ -205,8 +228,9 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
         phi0.append(phi)
         coord.append(coordination_number(pack))
         stress.append(float(sig[2, 2]) / 1e6)
-        runs = [_pulse_sweep(pack, p, cements[c], folder / f"pulse_{sample}_{c}.nc", progress)
-                for c in p["cements"]]
+        cementation = _Cementation(pack, p)
+        runs = [_pulse_sweep(cementation, cements[c], folder / f"pulse_{sample}_{c}.nc",
+                             progress) for c in p["cements"]]
         per_sample.append(xr.concat(runs, dim=xr.DataArray(p["cements"], dims="cement")))
     ds = xr.concat(per_sample, dim=xr.DataArray(p["samples"], dims="sample"))
     w = p["wave"]

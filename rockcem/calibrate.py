@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import datetime
 import hashlib
-import json
 import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -27,6 +26,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
+from ._toml import toml_value
 from ._validation import as_array, broadcast, check_positive, check_range
 from .elastic import velocities
 from .granular import contact_cement
@@ -240,19 +240,6 @@ def fit_contact_cement(grain: Mineral, cement: Mineral, porosity, density, vp, v
 
 
 # ----------------------------------------------------------------------------- calibration files
-def _toml_value(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        v = float(v)
-        return repr(v) if np.isfinite(v) else ("inf" if v > 0 else "-inf" if v < 0 else "nan")
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    return json.dumps(str(v), ensure_ascii=False)
-
-
 def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit=None,
                       description="", data="", weights="", references="", record=None) -> Path:
     """Write a calibration file (TOML, format ``rockcem-calibration/1``) atomically.
@@ -293,10 +280,10 @@ def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit
             "software": f"rockcem {__version__}", "references": references}
     lines = [f"# rockcem calibration file ({CALIBRATION_FORMAT}). Scenes apply [parameters]; the "
              "other tables record the fit.", ""]
-    lines += [f"{k} = {_toml_value(v)}" for k, v in head.items()]
+    lines += [f"{k} = {toml_value(v)}" for k, v in head.items()]
     for table, values in (("parameters", parameters), ("uncertainty", uncertainty or {}),
                           ("misfit", misfit or {}), ("fit", record or {})):
-        lines += ["", f"[{table}]"] + [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+        lines += ["", f"[{table}]"] + [f"{k} = {toml_value(v)}" for k, v in values.items()]
     text = "\n".join(lines) + "\n"
     _check_calibration(tomllib.loads(text), str(path))
 

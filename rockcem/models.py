@@ -31,7 +31,7 @@ from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
 from .granular import patchy_cement
-from .inclusions import _self_consistent
+from .inclusions import _check_engine, _self_consistent
 from .materials import Fluid, Mineral
 
 __all__ = [
@@ -175,8 +175,6 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     -------
     RockProperties
     """
-    from .inclusions import _check_engine
-
     _check_engine(engine)
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     fluid = _fluid(fluid)

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ._data import data_path
+from ._toml import toml_value
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
            "run_scene", "write_dataset", "MODEL_OUTPUTS", "STATE_OUTPUTS", "CALIBRATED_MODELS"]
@@ -339,24 +340,12 @@ def _validate_sweep(sweep, sections):
     return out
 
 
-def _toml_value(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise ValueError(f"cannot write {v!r} as TOML")
-
-
 def _to_toml(raw: dict) -> str:
     """Minimal TOML writer for scene dicts (scalars, lists, nested tables)."""
-    lines = [f"{k} = {_toml_value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
+    lines = [f"{k} = {toml_value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
 
     def table(prefix, d):
-        scal = [f"{json.dumps(k) if '.' in k else k} = {_toml_value(v)}" for k, v in d.items()
+        scal = [f"{json.dumps(k) if '.' in k else k} = {toml_value(v)}" for k, v in d.items()
                 if not isinstance(v, dict)]
         if scal or not any(isinstance(v, dict) for v in d.values()):
             lines.extend(["", f"[{prefix}]", *scal])

@@ -191,10 +191,11 @@ def test_xu2023_table1_same_fit_as_fit_contact_cement():
 @pytest.mark.parametrize("scheme", [1, 2])
 @pytest.mark.parametrize("eps", [0.0, 0.03])
 def test_radius_porosity_inverts_cement_radius(scheme, eps):
-    from md.calibrate import _radius_porosity
+    """The porosity md.calibrate uses for bonded data (rockcem.granular.cement_porosity)."""
+    from rockcem.granular import cement_porosity
 
     alpha = np.linspace(0.05, 0.55, 11)
-    phi = _radius_porosity(alpha, 0.4, 6.0, scheme, eps)
+    phi = cement_porosity(alpha, 0.4, 6.0, scheme, eps)
     np.testing.assert_allclose(cement_radius(phi, 0.4, 6.0, scheme, eps), alpha, rtol=1e-12)
 
 
