@@ -1,0 +1,281 @@
+"""Well logs: LAS 2.0 and CSV files read into an ``xarray.Dataset`` in the project's units.
+
+:func:`read_well` returns the logs on one coordinate ``depth`` (m, increasing) with the variables
+``vp``, ``vs`` (km/s), ``density`` (g/cm³) and ``porosity`` (fraction) that the file holds, named,
+unit-labelled and described as in the variable registry, so that a log and a scene's Dataset can
+be compared variable by variable.
+
+Which curve is which: the first curve of :data:`ALIASES` present in the file, in the order
+listed. Sonic logs are slownesses (``DT`` and friends) and become velocities,
+:math:`v = 1/\\Delta t`: :math:`v\\,[\\mathrm{km/s}] = 304.8/\\Delta t\\,[\\mu s/ft]` (1 ft =
+0.3048 m exactly) or :math:`1000/\\Delta t\\,[\\mu s/m]`. Neutron porosity (``NPHI``, ``TNPH``)
+is an apparent porosity in the units of a calibration matrix; it is used only where no total
+porosity curve is present, and the variable says so in its ``comment``.
+
+Units come from the file: the ``~Curve`` section of a LAS file, ``NAME (unit)`` or
+``NAME [unit]`` column headers of a CSV file. A curve that the reader uses and whose unit is
+missing or not in :data:`UNITS` is an error — a log is never guessed to be in percent or in feet.
+Null values (the LAS ``NULL``, default ``-999.25``) and empty CSV cells become NaN.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["ALIASES", "UNITS", "DEPTH_NAMES", "read_well", "read_las", "read_csv"]
+
+#: Mnemonics of the depth (index) curve.
+DEPTH_NAMES = ("DEPT", "DEPTH", "MD", "TVD")
+
+#: Log mnemonics read for each variable, in order of preference, and the kind of each
+#: (``slowness``, ``velocity``, ``density``, ``porosity``; ``neutron`` is porosity too).
+ALIASES = {
+    "vp": (("DT", "slowness"), ("DTC", "slowness"), ("DTCO", "slowness"), ("DT4P", "slowness"),
+           ("DTP", "slowness"), ("AC", "slowness"), ("VP", "velocity"), ("PVEL", "velocity")),
+    "vs": (("DTS", "slowness"), ("DTSM", "slowness"), ("DT4S", "slowness"),
+           ("DTSH", "slowness"), ("VS", "velocity"), ("SVEL", "velocity")),
+    "density": (("RHOB", "density"), ("RHOZ", "density"), ("DEN", "density"),
+                ("DENS", "density"), ("RHO", "density")),
+    "porosity": (("PHIT", "porosity"), ("PHI", "porosity"), ("POR", "porosity"),
+                 ("TPOR", "porosity"), ("NPHI", "neutron"), ("TNPH", "neutron"),
+                 ("NPOR", "neutron")),
+}
+
+#: Understood units (upper case, spaces removed) of each kind of curve, with the factor to the
+#: project's unit. Slownesses map to the factor ``c`` of :math:`v = c/\Delta t` in km/s.
+UNITS = {
+    "depth": {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
+              "FT": 0.3048, "F": 0.3048, "FEET": 0.3048, "FOOT": 0.3048},
+    "slowness": {"US/FT": 304.8, "USEC/FT": 304.8, "US/F": 304.8, "µS/FT": 304.8,
+                 "μS/FT": 304.8, "US/M": 1000.0, "USEC/M": 1000.0, "µS/M": 1000.0,
+                 "μS/M": 1000.0},
+    "velocity": {"KM/S": 1.0, "M/S": 1e-3, "FT/S": 0.3048e-3},
+    "density": {"G/CC": 1.0, "G/CM3": 1.0, "G/CM^3": 1.0, "GM/CC": 1.0, "G/C3": 1.0,
+                "KG/M3": 1e-3, "KG/M^3": 1e-3},
+    "porosity": {"V/V": 1.0, "FRAC": 1.0, "FRACTION": 1.0, "DEC": 1.0, "M3/M3": 1.0, "1": 1.0,
+                 "%": 0.01, "PU": 0.01, "P.U.": 0.01},
+}
+UNITS["neutron"] = UNITS["porosity"]
+
+_PROJECT_UNITS = {"depth": "m", "slowness": "km/s", "velocity": "km/s", "density": "g/cm3",
+                  "porosity": "fraction", "neutron": "fraction"}
+_RANGES = {"vp": (0.1, 10.0), "vs": (0.01, 7.0), "density": (0.5, 4.0),
+           "porosity": (-0.15, 1.0)}
+
+
+def _unit_key(unit) -> str:
+    return re.sub(r"\s+", "", str(unit or "")).upper()
+
+
+def _factor(where, kind, unit):
+    key = _unit_key(unit)
+    if not key:
+        raise ValueError(f"{where}: no unit given; use one of {', '.join(UNITS[kind])}")
+    if key not in UNITS[kind]:
+        raise ValueError(f"{where}: unit {unit!r} is not understood for a {kind} curve; "
+                         f"use one of {', '.join(UNITS[kind])}")
+    return UNITS[kind][key]
+
+
+def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
+    """The Dataset from ``columns = [(mnemonic, unit, values), ...]``, depth first."""
+    from .variables import build_dataset
+
+    name, unit, depth = columns[0]
+    if _unit_key(name) not in DEPTH_NAMES:
+        raise ValueError(f"{source}: no depth curve: the first curve is {name!r}; it must be "
+                         f"one of {', '.join(DEPTH_NAMES)}")
+    depth = np.asarray(depth, dtype=float)
+    if not np.all(np.isfinite(depth)) or np.any(depth == null):
+        row = int(np.flatnonzero(~np.isfinite(depth) | (depth == null))[0])
+        raise ValueError(f"{source}: depth curve {name!r} has no value in data row {row + 1}")
+    depth = depth * _factor(f"{source}: depth curve {name!r}", "depth", unit) \
+        - float(depth_offset)
+    order = np.argsort(depth, kind="stable")
+    depth = depth[order]
+    if np.any(np.diff(depth) <= 0.0):
+        k = int(np.flatnonzero(np.diff(depth) <= 0.0)[0]) + 1
+        row = int(order[k])
+        raise ValueError(f"{source}: depth {depth[k]:g} m repeats "
+                         f"(data row {row + 1}); depths must be distinct")
+    found = {_unit_key(n): (n, u, v) for n, u, v in columns[1:]}
+    data = {}
+    for var, names in ALIASES.items():
+        hit = next(((m, kind) for m, kind in names if m in found), None)
+        if hit is None:
+            continue
+        mnemonic, kind = hit
+        label, unit, values = found[mnemonic]
+        where = f"{source}: curve {label!r}"
+        factor = _factor(where, kind, unit)
+        raw = np.asarray(values, dtype=float)[order]
+        raw = np.where(raw == null, np.nan, raw)
+        if kind == "slowness":
+            if np.any(raw <= 0.0):
+                bad = int(order[np.flatnonzero(raw <= 0.0)[0]])
+                raise ValueError(f"{where}: slowness {raw[raw <= 0.0][0]:g} {unit} in data "
+                                 f"row {bad + 1} is not > 0")
+            value = factor / raw
+        else:
+            value = factor * raw
+        lo, hi = _RANGES[var]
+        outside = np.isfinite(value) & ((value < lo) | (value > hi))
+        if np.any(outside):
+            bad = int(order[np.flatnonzero(outside)[0]])
+            raise ValueError(f"{where}: {var} {value[outside][0]:g} "
+                             f"{_PROJECT_UNITS[kind]} in data row {bad + 1} lies outside "
+                             f"[{lo:g}, {hi:g}]; is the unit {unit!r} right?")
+        attrs = {"source_mnemonic": label, "source_units": str(unit)}
+        if kind == "neutron":
+            attrs["comment"] = ("neutron porosity (apparent, in the units of the tool's "
+                                "calibration matrix); no total-porosity curve in the file")
+        data[var] = (("depth",), value, attrs)
+    if not data:
+        names = ", ".join(m for v in ALIASES.values() for m, _ in v)
+        raise ValueError(f"{source}: no curve to read; known mnemonics: {names}")
+    ds = build_dataset({k: v[:2] for k, v in data.items()}, {"depth": (("depth",), depth)},
+                       {"title": f"well {well}".strip(), "well": str(well),
+                        "source_file": str(source), "depth_offset_m": float(depth_offset),
+                        "source_depth_curve": f"{name} ({unit})"})
+    for k, v in data.items():
+        ds[k].attrs.update(v[2])
+    return ds
+
+
+def _ascii_rows(text, n_curves, source):
+    """Check that every line of the ~A section holds one value per curve (no wrapped lines)."""
+    lines = text.splitlines()
+    start = next((i for i, line in enumerate(lines) if line.lstrip().upper().startswith("~A")),
+                 None)
+    if start is None:
+        raise ValueError(f"{source}: no ~A (data) section")
+    for i, line in enumerate(lines[start + 1:], start + 2):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        if stripped.startswith("~"):
+            break
+        count = len(stripped.replace(",", " ").split())
+        if count != n_curves:
+            raise ValueError(f"{source}: line {i} has {count} values, the ~Curve section lists "
+                             f"{n_curves} curves (a wrapped or truncated line)")
+
+
+def read_las(path, *, depth_offset=0.0):
+    """Read a LAS 2.0 file (unwrapped) with ``lasio``; see :func:`read_well`."""
+    import lasio
+
+    path = Path(path)
+    source = path.name
+    try:
+        las = lasio.read(str(path), ignore_header_errors=False)
+    except FileNotFoundError:
+        raise ValueError(f"well file {str(path)!r} not found") from None
+    except Exception as exc:                # lasio raises KeyError, LASHeaderError, ...
+        raise ValueError(f"{source} is not a readable LAS file: {exc}") from None
+    version = las.version.get("VERS")
+    if version is None or not str(version.value).strip().startswith("2"):
+        raise ValueError(f"{source}: LAS version {getattr(version, 'value', None)!r}; only LAS "
+                         "2.0 is read")
+    wrap = las.version.get("WRAP")
+    if wrap is not None and str(wrap.value).strip().upper() == "YES":
+        raise ValueError(f"{source}: wrapped LAS (WRAP. YES) is not read; write it unwrapped "
+                         "(lasio: las.write(file, wrap=False))")
+    if not las.curves:
+        raise ValueError(f"{source}: no curves")
+    _ascii_rows(path.read_text(errors="replace"), len(las.curves), source)
+    null = las.well.get("NULL")
+    null = float(null.value) if null is not None and str(null.value).strip() else -999.25
+    well = las.well.get("WELL")
+    columns = [(c.mnemonic, c.unit, np.asarray(c.data, dtype=float)) for c in las.curves]
+    return _dataset(source, columns, well=getattr(well, "value", "") or "", null=null,
+                    depth_offset=depth_offset)
+
+
+_HEADER = re.compile(r"^\s*([^\s(\[]+)\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*$")
+
+
+def read_csv(path, *, null=-999.25, depth_offset=0.0):
+    """Read a CSV well log, units in the header (``DEPT (ft),DT (us/ft),RHOB (g/cc)``);
+    see :func:`read_well`."""
+    import pandas as pd
+
+    path = Path(path)
+    source = path.name
+    if not path.is_file():
+        raise ValueError(f"well file {str(path)!r} not found")
+    try:
+        table = pd.read_csv(path, comment="#", skipinitialspace=True)
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{source} is not a readable CSV file: {exc}") from None
+    columns = []
+    for j, header in enumerate(table.columns):
+        match = _HEADER.match(str(header))
+        if match is None:
+            raise ValueError(f"{source}: column {j + 1} header {header!r} is not 'NAME' or "
+                             "'NAME (unit)'")
+        try:
+            values = pd.to_numeric(table[header], errors="raise").to_numpy(dtype=float)
+        except (ValueError, TypeError):
+            bad = pd.to_numeric(table[header], errors="coerce").isna() & table[header].notna()
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise ValueError(f"{source}: column {match.group(1)!r}, data row {row + 1}: "
+                             f"{table[header].iloc[row]!r} is not a number") from None
+        columns.append((match.group(1), match.group(2) or "", values))
+    if not columns:
+        raise ValueError(f"{source}: no columns")
+    return _dataset(source, columns, null=null, depth_offset=depth_offset)
+
+
+def read_well(path, *, depth_offset=0.0, null=-999.25):
+    r"""Read a well log (LAS 2.0 or CSV) into the project's units.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.las`` file (LAS 2.0, unwrapped; the first curve is the depth) or a ``.csv`` file
+        (first column the depth; headers ``NAME (unit)`` or ``NAME [unit]``; ``#`` comments).
+    depth_offset : float, keyword-only
+        m, subtracted from the log depth to give depth below the sediment surface, the depth of
+        the scenes (e.g. the kelly-bushing height plus the water depth). Default 0.
+    null : float, keyword-only
+        Null value of a CSV file (default ``-999.25``, the LAS convention); a LAS file gives
+        its own (``NULL`` in ``~Well``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinate ``depth`` (m, increasing); of ``vp``, ``vs`` (km/s), ``density`` (g/cm³) and
+        ``porosity`` (fraction) those the file has (:data:`ALIASES`), NaN where the log is null.
+        Each variable records ``source_mnemonic`` and ``source_units``.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file and what is wrong: no depth curve, a unit not in
+        :data:`UNITS` or missing, a wrapped or truncated line, a repeated depth, a slowness
+        ``<= 0``, a value outside the plausible range of its variable (a sign of a wrong unit),
+        no known curve.
+
+    Examples
+    --------
+    A CSV log in feet and µs/ft:
+
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
+    >>> _ = f.write_text("DEPT (ft),DT (us/ft)\n1000,100\n2000,80\n")
+    >>> ds = read_well(f)
+    >>> ds.depth.values.tolist(), ds.vp.values.tolist()
+    ([304.8, 609.6], [3.048, 3.81])
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".las":
+        return read_las(path, depth_offset=depth_offset)
+    if suffix in (".csv", ".txt"):
+        return read_csv(path, null=null, depth_offset=depth_offset)
+    raise ValueError(f"well file {path.name!r}: unknown format {path.suffix!r}; give a .las "
+                     "(LAS 2.0) or .csv file")

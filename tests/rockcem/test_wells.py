@@ -1,0 +1,112 @@
+"""Well-log reader: LAS 2.0 round trips through lasio, CSV headers, and the refusals."""
+
+import numpy as np
+import pytest
+
+from rockcem.wells import read_well
+
+lasio = pytest.importorskip("lasio")
+
+FOOT = 0.3048   # m, exact by definition (international foot, 1959)
+
+
+def _las(path, curves, *, null=-999.25, wrap=False):
+    las = lasio.LASFile()
+    for name, unit, values in curves:
+        las.append_curve(name, np.asarray(values, dtype=float), unit=unit)
+    las.well["NULL"].value = null
+    las.well["WELL"].value = "TEST-1"
+    las.write(str(path), version=2.0, wrap=wrap)
+    return path
+
+
+def test_las_round_trip_feet_and_microseconds_per_foot(tmp_path):
+    depth_ft = np.array([3000.0, 3000.5, 3001.0, 3001.5])
+    dt = np.array([100.0, 95.5, -999.25, 80.0])          # us/ft, one null sample
+    dts = np.array([180.0, 170.0, 160.0, 150.0])
+    rhob = np.array([2.30, 2.35, 2.40, 2.45])             # g/cm3
+    nphi = np.array([25.0, 24.0, 23.0, 22.0])             # percent
+    f = _las(tmp_path / "w.las", [("DEPT", "FT", depth_ft), ("DT", "US/FT", dt),
+                                  ("DTS", "US/FT", dts), ("RHOB", "G/CC", rhob),
+                                  ("NPHI", "%", nphi)])
+    ds = read_well(f)
+    # Expected values from the definitions: v = distance / time, 1 ft = 0.3048 m.
+    np.testing.assert_allclose(ds.depth.values, depth_ft * FOOT, rtol=1e-15)
+    expected_vp = FOOT / (dt * 1e-6) / 1000.0
+    np.testing.assert_allclose(ds.vp.values[[0, 1, 3]], expected_vp[[0, 1, 3]], rtol=1e-14)
+    assert np.isnan(ds.vp.values[2])
+    np.testing.assert_allclose(ds.vs.values, FOOT / (dts * 1e-6) / 1000.0, rtol=1e-14)
+    np.testing.assert_allclose(ds.density.values, rhob, rtol=1e-15)
+    np.testing.assert_allclose(ds.porosity.values, nphi / 100.0, rtol=1e-15)
+    assert ds.vp.attrs["units"] == "km s-1" and ds.depth.attrs["units"] == "m"
+    assert ds.vp.attrs["source_mnemonic"] == "DT"
+    assert "neutron" in ds.porosity.attrs["comment"]
+    assert ds.attrs["well"] == "TEST-1"
+
+
+def test_las_in_metres_and_microseconds_per_metre_decreasing_depth(tmp_path):
+    depth = np.array([2000.0, 1999.0, 1998.0])            # logged upwards
+    dt = np.array([400.0, 500.0, 250.0])                   # us/m
+    f = _las(tmp_path / "m.las", [("DEPTH", "M", depth), ("DTCO", "us/m", dt),
+                                  ("PHIT", "v/v", [0.1, 0.2, 0.3])])
+    ds = read_well(f, depth_offset=100.0)
+    np.testing.assert_allclose(ds.depth.values, [1898.0, 1899.0, 1900.0], rtol=0)
+    np.testing.assert_allclose(ds.vp.values, [4.0, 2.0, 2.5], rtol=1e-15)
+    np.testing.assert_allclose(ds.porosity.values, [0.3, 0.2, 0.1])
+    assert "comment" not in ds.porosity.attrs
+
+
+def test_csv_units_from_header(tmp_path):
+    f = tmp_path / "w.csv"
+    f.write_text("# a comment line\nDEPT (ft),VP [m/s],RHOB (kg/m3),PHIT (frac)\n"
+                 "1000,3000,2300,0.2\n2000,,2400,-999.25\n")
+    ds = read_well(f)
+    np.testing.assert_allclose(ds.depth.values, [304.8, 609.6], rtol=1e-15)
+    assert ds.vp.values[0] == 3.0 and np.isnan(ds.vp.values[1])
+    np.testing.assert_allclose(ds.density.values, [2.3, 2.4], rtol=1e-15)
+    assert np.isnan(ds.porosity.values[1])
+
+
+@pytest.mark.parametrize("curves, message", [
+    ([("TIME", "S", [1.0, 2.0]), ("DT", "US/FT", [100.0, 90.0])], "no depth curve"),
+    ([("DEPT", "FT", [1.0, 2.0]), ("DT", "FURLONG", [100.0, 90.0])], "'FURLONG' is not"),
+    ([("DEPT", "YD", [1.0, 2.0]), ("DT", "US/FT", [100.0, 90.0])], "'YD' is not"),
+    ([("DEPT", "M", [1.0, 2.0]), ("RHOB", "", [2.3, 2.4])], "no unit given"),
+    ([("DEPT", "M", [1.0, 1.0]), ("RHOB", "G/CC", [2.3, 2.4])], "repeats"),
+    ([("DEPT", "M", [1.0, 2.0]), ("NPHI", "V/V", [25.0, 24.0])], "is the unit 'V/V' right"),
+    ([("DEPT", "M", [1.0, 2.0]), ("GR", "API", [50.0, 60.0])], "no curve to read"),
+])
+def test_bad_las_gets_one_clear_line(tmp_path, curves, message):
+    f = _las(tmp_path / "bad.las", curves)
+    with pytest.raises(ValueError, match=message) as info:
+        read_well(f)
+    assert "\n" not in str(info.value) and "bad.las" in str(info.value)
+
+
+def test_wrapped_lines_are_refused(tmp_path):
+    f = _las(tmp_path / "w.las", [("DEPT", "M", [1.0, 2.0, 3.0]),
+                                  ("DT", "US/M", [400.0, 410.0, 420.0]),
+                                  ("RHOB", "G/CC", [2.3, 2.4, 2.5])])
+    text = f.read_text()
+    lines = text.splitlines()
+    i = next(k for k, line in enumerate(lines) if line.startswith("~A")) + 2
+    parts = lines[i].split()
+    lines[i:i + 1] = [" ".join(parts[:2]), parts[2]]      # one data line broken in two
+    f.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"line \d+ has 2 values.*3 curves"):
+        read_well(f)
+    g = _las(tmp_path / "wrap.las", [("DEPT", "M", [1.0, 2.0]), ("DT", "US/M", [400.0, 410.0])],
+             wrap=True)
+    with pytest.raises(ValueError, match="WRAP. YES"):
+        read_well(g)
+
+
+def test_unknown_format_and_missing_file(tmp_path):
+    with pytest.raises(ValueError, match="unknown format"):
+        read_well(tmp_path / "log.dlis")
+    with pytest.raises(ValueError, match="not found"):
+        read_well(tmp_path / "none.las")
+    junk = tmp_path / "junk.las"
+    junk.write_text("hello\n")
+    with pytest.raises(ValueError, match="not a readable LAS file"):
+        read_well(junk)
