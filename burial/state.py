@@ -28,7 +28,7 @@ def _present(path: BurialPath, fields: dict):
     """Select the present-day values: every node of a single 1-D path (the linear basin model),
     or the last node of each package of a 2-D table, sorted by present depth."""
     if path.depth.ndim == 1:
-        return path.depth, fields, {"time": path.time}
+        return path.depth, fields, {"burial_time": path.time}
     if path.depth.ndim != 2:
         raise ValueError("a path table must have one package axis: depth of shape "
                          "(packages, nodes)")
@@ -36,7 +36,7 @@ def _present(path: BurialPath, fields: dict):
     order = np.argsort(depth, kind="stable")
     end = {k: np.asarray(v)[..., -1][order] for k, v in fields.items()}
     t = np.broadcast_to(path.time, path.depth.shape)[:, -1][order]
-    return depth[order], end, {"time": t}
+    return depth[order], end, {"burial_time": t}
 
 
 def _dataset(path, fields, attrs):
@@ -70,7 +70,8 @@ def sandstone_state(path: BurialPath, *, porosity0=0.36, grain_size=0.3, quartz_
     Returns
     -------
     xarray.Dataset
-        Dimension ``depth``; variables ``time``, ``temperature``, ``pressure_confining``,
+        Dimension ``depth``; variables ``burial_time`` (Myr since
+        deposition), ``temperature``, ``pressure_confining``,
         ``pressure_pore``, ``pressure_effective``, ``pressure_effective_max``,
         ``cement_fraction``, ``intergranular_volume``, ``porosity``, ``grain_fraction``,
         ``pore_filled``.
@@ -106,7 +107,8 @@ def shale_state(path: BurialPath, *, porosity0=0.35, beta=0.01, r0=0.99, order=5
     Returns
     -------
     xarray.Dataset
-        Dimension ``depth``; variables ``time``, ``temperature``, the pressures, ``porosity``,
+        Dimension ``depth``; variables ``burial_time`` (Myr since
+        deposition), ``temperature``, the pressures, ``porosity``,
         ``smectite_fraction``, ``illite_fraction``.
     """
     p = pressures(path, sediment_density=sediment_density, water_density=water_density)

@@ -145,7 +145,7 @@ class _Pipeline:
             return fn(minerals, self.solid_fractions, self.porosity, fluid, **knobs)
 
     def state_variable(self, name):
-        if name == "time":
+        if name in ("time", "burial_time"):
             return self.path.time
         if name == "temperature":
             return self.path.temperature
@@ -224,7 +224,10 @@ def evaluate(scene):
     data = {}
     for name in scene.outputs:
         if name not in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs"):
-            data[name] = (("depth",), np.asarray(pipe.state_variable(name)))
+            # "time" (the scene's output key) is written as burial_time: Myr since deposition,
+            # which CF readers must not take for a time coordinate.
+            key = "burial_time" if name == "time" else name
+            data[key] = (("depth",), np.asarray(pipe.state_variable(name)))
     wanted = [n for n in scene.outputs if n in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")]
     coords = {"depth": (("depth",), depth)}
     if wanted:
@@ -232,11 +235,38 @@ def evaluate(scene):
         for name in wanted:
             data[name] = (("model", "depth"), np.stack([getattr(r, name) for r in results]))
         coords["model"] = (("model",), np.array(scene.models, dtype=object))
-    ds = build_dataset(data, coords, _global_attrs(scene))
+    attrs = _global_attrs(scene)
+    warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
+    if warnings:
+        attrs["validity_warnings"] = "\n".join(warnings)
+    ds = build_dataset(data, coords, attrs)
     if "model" in ds.coords:
         ds["model"].attrs["description"] = "; ".join(
             f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
+    return _coordinate_encoding(ds)
+
+
+def _coordinate_encoding(ds):
+    """No ``_FillValue`` on coordinates in the netCDF file (CF 2.5.1: coordinate variables
+    have no missing values); xarray would otherwise add NaN to every float coordinate."""
+    for name in ds.coords:
+        ds[name].encoding["_FillValue"] = None
     return ds
+
+
+def _validity_warnings(scene, pipe, *, computed_models):
+    """:func:`rockcem.validity.validity_warnings` on what the scene computed (nothing more is
+    computed for them: porosity and the cement flag only where the outputs needed them)."""
+    from .validity import validity_warnings
+
+    done = pipe.__dict__                     # cached_property values computed so far
+    if "porosity" not in done:
+        return []
+    filled = done["sandstone"].pore_filled if "sandstone" in done else None
+    return validity_warnings(pipe.path.depth, done["porosity"],
+                             porosity0=pipe.lith["porosity0"],
+                             models=scene.models if computed_models else (),
+                             pore_filled=filled)
 
 
 def _run_chunk(chunk):
@@ -278,6 +308,8 @@ def run(scene, *, scheduler=None, progress=False):
         coords[key] = xr.Variable((key,), np.asarray(vals), attrs=_sweep_attrs(key))
     out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
+    _merge_warnings(out, results, dims, values)
+    _coordinate_encoding(out)
     out.attrs["scene_toml"] = scene.text
     used = sorted({ds.attrs["calibration_json"] for _, ds in results
                    if "calibration_json" in ds.attrs})
@@ -286,6 +318,22 @@ def run(scene, *, scheduler=None, progress=False):
             sorted({ds.attrs["calibration"] for _, ds in results}))
         out.attrs["calibration_json"] = json.dumps([json.loads(u) for u in used])
     return out
+
+
+def _merge_warnings(out, results, dims, values):
+    """One ``validity_warnings`` attribute for a sweep: each line once, with the members it
+    holds for unless it holds for all."""
+    members = {}
+    for index, ds in results:
+        for line in filter(None, ds.attrs.get("validity_warnings", "").split("\n")):
+            members.setdefault(line, []).append(
+                ", ".join(f"{d} = {v[i]:g}" if isinstance(v[i], (int, float)) else f"{d} = {v[i]}"
+                          for d, v, i in zip(dims, values, index)))
+    out.attrs.pop("validity_warnings", None)
+    if members:
+        out.attrs["validity_warnings"] = "\n".join(
+            line if len(where) == len(results) else f"[{'; '.join(where)}] {line}"
+            for line, where in members.items())
 
 
 def _sweep_attrs(key):

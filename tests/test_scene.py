@@ -78,7 +78,7 @@ def test_carcione2022_fig15_heating_rates():
     c = ds.cement_fraction.sel(depth=3000.0)
     assert float(c.sel(heating_rate=0.4)) > float(c.sel(heating_rate=1.2)) \
         > float(c.sel(heating_rate=2.0))
-    assert float(ds.time.sel(depth=3000.0, heating_rate=0.4)) == pytest.approx(225.0)
+    assert float(ds.burial_time.sel(depth=3000.0, heating_rate=0.4)) == pytest.approx(225.0)
 
 
 # --- output -------------------------------------------------------------------------------------
@@ -90,7 +90,7 @@ def test_netcdf_round_trip(tmp_path):
     assert back.attrs["Conventions"].startswith("CF")
     assert "lithology" in back.attrs["scene_toml"]
     assert back.vp.attrs["units"] == "km s-1" and back.depth.attrs["positive"] == "down"
-    assert back.time.attrs["units"] == "Myr"
+    assert back.burial_time.attrs["units"] == "Myr"
     again = scene_from_dict(__import__("tomllib").loads(back.attrs["scene_toml"]))
     assert again.sections == scene_from_dict(SANDSTONE).sections
 

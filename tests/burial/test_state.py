@@ -28,7 +28,7 @@ def test_sandstone_state_values(path):
     assert float(ds.porosity.min()) >= 0.0
     np.testing.assert_allclose(ds.grain_fraction + ds.intergranular_volume, 1.0, rtol=1e-14)
     assert ds.depth.attrs["positive"] == "down" and ds.depth.attrs["standard_name"] == "depth"
-    for name in ("porosity", "temperature", "pressure_effective", "time"):
+    for name in ("porosity", "temperature", "pressure_effective", "burial_time"):
         assert ds[name].attrs["units"] == variable_attrs(name)["units"]
 
 
