@@ -9,6 +9,7 @@ each linear piece of the path, so results do not depend on the node spacing.
 from .clay import illite_fraction, smectite_fraction
 from .compaction import (SandstonePorosity, athy_porosity, intergranular_volume,
                          sandstone_porosity)
+from .horizons import HorizonPaths, horizon_paths, shifted_path
 from .path import BurialPath, Pressures, linear_path, path_from_nodes, pressures
 from .quartz import quartz_cement
 from .state import sandstone_state, shale_state
@@ -18,6 +19,9 @@ __all__ = [
     "Pressures",
     "linear_path",
     "path_from_nodes",
+    "horizon_paths",
+    "shifted_path",
+    "HorizonPaths",
     "pressures",
     "quartz_cement",
     "smectite_fraction",

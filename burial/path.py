@@ -30,7 +30,9 @@ class BurialPath:
     Attributes
     ----------
     time : ndarray, shape (n,) or (..., n)
-        Time since deposition at the nodes, Myr, strictly increasing along the last axis.
+        Time since deposition at the nodes, Myr, strictly increasing along the last axis
+        (:func:`burial.horizons.horizon_paths` pads shorter histories with copies of their
+        first node: pieces of zero duration, which add nothing to any integral).
     depth : ndarray, shape (..., n)
         Burial depth at the nodes, m, ``>= 0``.
     temperature : ndarray, shape (..., n)
@@ -43,8 +45,12 @@ class BurialPath:
 
     @property
     def heating_rate(self) -> np.ndarray:
-        """Heating rate of each linear piece, °C/Myr, shape ``(..., n - 1)``."""
-        return np.diff(self.temperature, axis=-1) / np.diff(self.time, axis=-1)
+        """Heating rate of each linear piece, °C/Myr, shape ``(..., n - 1)`` (0 on a piece
+        of zero duration)."""
+        dt = np.diff(self.time, axis=-1)
+        dT = np.diff(self.temperature, axis=-1)
+        return np.divide(dT, dt, out=np.zeros(np.broadcast_shapes(dT.shape, dt.shape)),
+                         where=dt != 0.0)
 
 
 def _validated(time, depth, temperature) -> BurialPath:

@@ -49,6 +49,8 @@ class _Pipeline:
         import burial
 
         p = self.sec["path"]
+        if p["kind"] != "linear":
+            return self.history.path
         rate = p["sedimentation_rate"]
         if p["heating_rate"] is not None:
             if p["heating_rate"] <= 0:
@@ -59,11 +61,25 @@ class _Pipeline:
                                       p["max_depth"], depth_step=p["depth_step"])
 
     @cached_property
+    def history(self):
+        """A table history (``[path] kind = "horizons"`` or ``"nodes"``) and horizon names."""
+        from .histories import scene_history
+
+        return scene_history(self.sec["path"], self.scene.base_dir)
+
+    def now(self, values):
+        """Present-day values: every node of a 1-D path (the linear model and ``nodes``, whose
+        nodes are the profile), the last node of each horizon of a table of horizons."""
+        return values if self.path.depth.ndim == 1 else np.asarray(values)[..., -1]
+
+    @cached_property
     def pressures(self):
+        """Present-day pressures; ``max_effective`` is the largest along each path."""
         import burial
 
         with _section("pressure"):
-            return burial.pressures(self.path, **self.sec["pressure"])
+            full = burial.pressures(self.path, **self.sec["pressure"])
+        return type(full)(*(self.now(v) for v in full))
 
     @cached_property
     def sandstone(self):
@@ -71,9 +87,9 @@ class _Pipeline:
 
         s = self.lith
         with _section("sandstone"):
-            phip = burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
-                                        s["quartz_fraction"], s["clay_coating"],
-                                        start_temperature=s["start_temperature"])
+            phip = self.now(burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
+                                                 s["quartz_fraction"], s["clay_coating"],
+                                                 start_temperature=s["start_temperature"]))
             igv = burial.intergranular_volume(s["porosity0"], self.pressures.max_effective,
                                               s["igv_final"], s["beta"])
         return burial.sandstone_porosity(igv, phip)
@@ -92,8 +108,9 @@ class _Pipeline:
 
         s = self.lith
         with _section("shale"):
-            return burial.smectite_fraction(self.path, s["r0"], s["order"],
-                                            s["activation_energy"], s["frequency_factor"])
+            return self.now(burial.smectite_fraction(self.path, s["r0"], s["order"],
+                                                     s["activation_energy"],
+                                                     s["frequency_factor"]))
 
     @cached_property
     def materials(self):
@@ -146,9 +163,9 @@ class _Pipeline:
 
     def state_variable(self, name):
         if name in ("time", "burial_time"):
-            return self.path.time
+            return self.now(np.broadcast_to(self.path.time, self.path.depth.shape))
         if name == "temperature":
-            return self.path.temperature
+            return self.now(self.path.temperature)
         if name.startswith("pressure_"):
             return {"pressure_confining": self.pressures.confining,
                     "pressure_pore": self.pressures.pore,
@@ -220,7 +237,7 @@ def evaluate(scene):
     from .variables import build_dataset
 
     pipe = _Pipeline(scene)
-    depth = pipe.path.depth
+    depth = pipe.now(pipe.path.depth)
     data = {}
     for name in scene.outputs:
         if name not in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs"):
@@ -230,6 +247,8 @@ def evaluate(scene):
             data[key] = (("depth",), np.asarray(pipe.state_variable(name)))
     wanted = [n for n in scene.outputs if n in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")]
     coords = {"depth": (("depth",), depth)}
+    if scene.sections["path"]["kind"] == "horizons":
+        coords["horizon"] = (("depth",), pipe.history.horizon.astype(object))
     if wanted:
         results = [pipe.model(label) for label in scene.models]
         for name in wanted:
@@ -263,7 +282,7 @@ def _validity_warnings(scene, pipe, *, computed_models):
     if "porosity" not in done:
         return []
     filled = done["sandstone"].pore_filled if "sandstone" in done else None
-    return validity_warnings(pipe.path.depth, done["porosity"],
+    return validity_warnings(pipe.now(pipe.path.depth), done["porosity"],
                              porosity0=pipe.lith["porosity0"],
                              models=scene.models if computed_models else (),
                              pore_filled=filled)

@@ -53,13 +53,22 @@ SCHEMA: dict[str, dict[str, tuple]] = {
     },
     "path": {
         "kind": ("linear", "string", "",
-                 "'linear': the linear basin model of Carcione et al. 2022, eq. 2"),
+                 "'linear': the linear basin model of Carcione et al. 2022, eq. 2; 'horizons': "
+                 "a table of histories, one per horizon; 'nodes': one history every depth "
+                 "follows (rockcem.histories)"),
         "gradient": (30.0, "number", "degC/km", "geothermal gradient G"),
         "sedimentation_rate": (40.0, "number", "m/Myr", "burial rate S (or give heating_rate)"),
         "heating_rate": (None, "number", "degC/Myr", "H = G S; if given, S = H / G"),
         "surface_temperature": (15.0, "number", "degC", "T0"),
         "max_depth": (5000.0, "number", "m", "deepest depth of the profile"),
         "depth_step": (10.0, "number", "m", "depth resolution of the profile"),
+        "table": (None, "string", "", "horizons/nodes: CSV file of the history, units in the "
+                  "header (relative to the scene file)"),
+        "horizon": (None, "strings", "", "horizons, inline: horizon name of each row"),
+        "time": (None, "numbers", "Myr", "inline: time before present (horizons) or since "
+                 "deposition (nodes) of each row"),
+        "depth": (None, "numbers", "m", "inline: depth below the sediment surface of each row"),
+        "temperature": (None, "numbers", "degC", "inline: temperature of each row"),
     },
     "pressure": {
         "sediment_density": (2.5, "number", "g/cm3",
@@ -193,10 +202,13 @@ def _check_value(where, key, value, kind):
         ok = isinstance(value, int) and not isinstance(value, bool)
     elif kind == "string":
         ok = isinstance(value, str)
+    elif kind == "numbers":
+        ok = isinstance(value, list) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
     else:
         ok = isinstance(value, list) and all(isinstance(v, str) for v in value)
     if not ok:
-        name = {"strings": "list of names"}.get(kind, kind)
+        name = {"strings": "list of names", "numbers": "list of numbers"}.get(kind, kind)
         raise ValueError(f"scene key {where}.{key} must be a {name}; got {value!r}")
     return value
 
@@ -259,8 +271,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
             given, calibrations[label] = _apply_calibration(label, given, base_dir)
         sections[f"models.{label}"] = _section(f"models.{label}", given,
                                                SCHEMA[f"models.{label}"])
-    if sections["path"]["kind"] != "linear":
-        raise ValueError("scene key path.kind must be 'linear' (the linear basin model)")
+    _check_path_kind(raw.get("path", {}), sections["path"], base_dir)
     valid_outputs = STATE_OUTPUTS[lithology] + (MODEL_OUTPUTS if models else ())
     outputs = head["outputs"]
     if outputs is None:
@@ -317,6 +328,22 @@ def _apply_calibration(label, given, base_dir):
         raise ValueError(f"scene key models.{label}.{twice[0]} is also set by calibration "
                          f"{cal['name']!r}; remove one of them")
     return {**given, **cal["parameters"]}, cal
+
+
+def _check_path_kind(given, path, base_dir):
+    """The keys given in [path] belong to its kind; a table history is read and checked."""
+    from .histories import KIND_KEYS, PATH_KINDS, scene_history
+
+    kind = path["kind"]
+    if kind not in PATH_KINDS:
+        raise ValueError(f"scene key path.kind must be one of {', '.join(PATH_KINDS)}; "
+                         f"got {kind!r}")
+    stray = [k for k in given if k != "kind" and k not in KIND_KEYS[kind]]
+    if stray:
+        raise ValueError(f"scene key path.{stray[0]} does not apply to kind = {kind!r} "
+                         f"(its keys: {', '.join(KIND_KEYS[kind])})")
+    if kind != "linear":
+        scene_history(path, base_dir)
 
 
 def _validate_sweep(sweep, sections):
