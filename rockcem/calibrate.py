@@ -33,12 +33,16 @@ from .granular import contact_cement
 from .materials import Mineral
 
 __all__ = ["FitResult", "fit_parameters", "fit_contact_cement", "CALIBRATION_FORMAT",
-           "CALIBRATION_MODELS", "write_calibration", "load_calibration", "shipped_calibrations"]
+           "CALIBRATION_MODELS", "write_calibration", "load_calibration", "shipped_calibrations",
+           "apply_scene_calibration"]
 
 #: Version tag of the calibration file format.
 CALIBRATION_FORMAT = "rockcem-calibration/1"
-#: Effective-medium models a calibration file may name (those :mod:`md.calibrate` fits).
-CALIBRATION_MODELS = ("contact_cement", "patchy_cement")
+#: What a calibration file may calibrate: the effective-medium models :mod:`md.calibrate` fits,
+#: and ``"scene"``, any numeric scene keys named ``"section.key"`` (written by
+#: :mod:`rockcem.wellfit` from a fit to a well; a scene names it in its top-level
+#: ``calibration`` key).
+CALIBRATION_MODELS = ("contact_cement", "patchy_cement", "scene")
 
 
 @dataclass(frozen=True)
@@ -283,7 +287,8 @@ def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit
     lines += [f"{k} = {toml_value(v)}" for k, v in head.items()]
     for table, values in (("parameters", parameters), ("uncertainty", uncertainty or {}),
                           ("misfit", misfit or {}), ("fit", record or {})):
-        lines += ["", f"[{table}]"] + [f"{k} = {toml_value(v)}" for k, v in values.items()]
+        lines += ["", f"[{table}]"] + [f"{_toml_key(k)} = {toml_value(v)}"
+                                       for k, v in values.items()]
     text = "\n".join(lines) + "\n"
     _check_calibration(tomllib.loads(text), str(path))
 
@@ -292,6 +297,14 @@ def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit
             fh.write(text)
 
     return atomic_write(path, write)
+
+
+def _toml_key(key) -> str:
+    """A TOML key: bare where it can be, quoted otherwise (``"sandstone.beta"``)."""
+    import json
+    import re
+
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
 
 
 def shipped_calibrations() -> dict[str, Path]:
@@ -383,3 +396,54 @@ def load_calibration(source, *, base_dir=None) -> dict:
             "uncertainty": dict(raw.get("uncertainty", {})),
             "misfit": dict(raw.get("misfit", {})),
             "path": str(path.resolve()), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def apply_scene_calibration(raw: dict, base_dir, schema) -> tuple[dict, dict]:
+    """A scene dict with the values of its scene calibration file applied.
+
+    The scene names the file in its top-level key ``calibration``; the file's ``model`` must be
+    ``"scene"`` and each key of its ``[parameters]`` a numeric scene key ``"section.key"``
+    (``"sandstone.beta"``, ``"models.patchy_cement.delta"``) of ``schema`` whose section the
+    scene has (a model section only if the scene uses that model). A key the scene sets as
+    well is an error: remove one of them.
+
+    Returns
+    -------
+    (dict, dict)
+        The scene dict with the values set, and the calibration record
+        (:func:`load_calibration`).
+    """
+    name = raw["calibration"]
+    if not isinstance(name, str):
+        raise ValueError(f"scene key calibration must be a string (a file); got {name!r}")
+    try:
+        cal = load_calibration(name, base_dir=base_dir)
+    except ValueError as exc:
+        raise ValueError(f"scene key calibration: {exc}") from None
+    if cal["model"] != "scene":
+        raise ValueError(f"scene key calibration: {cal['name']!r} calibrates model "
+                         f"{cal['model']!r}; name it in [models.{cal['model']}] calibration")
+    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in raw.items()}
+    models = raw.get("models", {})
+    out["models"] = {k: dict(v) if isinstance(v, dict) else v for k, v in models.items()} \
+        if isinstance(models, dict) else models
+    for dotted, value in cal["parameters"].items():
+        section, _, key = dotted.rpartition(".")
+        if section not in schema or key not in schema[section] \
+                or schema[section][key][1] != "number":
+            raise ValueError(f"scene key calibration: parameter {dotted!r} of {cal['name']!r} "
+                             "is not a numeric scene key 'section.key'")
+        if section.startswith("models."):
+            label = section.removeprefix("models.")
+            if label not in out["models"]:
+                raise ValueError(f"scene key calibration: parameter {dotted!r} of "
+                                 f"{cal['name']!r}: the scene has no model {label!r}")
+            table = out["models"][label]
+        else:
+            table = out.setdefault(section, {})
+        if key in table:
+            raise ValueError(f"scene key {dotted} is also set by calibration {cal['name']!r}; "
+                             "remove one of them")
+        table[key] = value
+    out.pop("calibration")
+    return out, cal

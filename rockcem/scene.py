@@ -50,6 +50,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "outputs": (None, "strings", "",
                     "variables to compute and write (default: all for the lithology)"),
         "output": (None, "string", "", "netCDF file to write (default: <name>.nc)"),
+        "calibration": (None, "string", "", "scene calibration file (rockcem fit) whose "
+                        "[parameters] set 'section.key' values"),
     },
     "path": {
         "kind": ("linear", "string", "",
@@ -239,6 +241,11 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     """
     if not isinstance(raw, dict):
         raise ValueError("a scene must be a table of keys")
+    scene_cal, original = None, raw
+    if raw.get("calibration") is not None:
+        from .calibrate import apply_scene_calibration
+
+        raw, scene_cal = apply_scene_calibration(raw, base_dir, SCHEMA)
     top = {k: v for k, v in raw.items() if k not in _TOP_SECTIONS}
     for k in raw:
         if k not in _TOP_SECTIONS and k not in SCHEMA["scene"]:
@@ -263,7 +270,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     if lithology == "shale" and "patchy_cement" in models_raw:
         raise ValueError("model 'patchy_cement' (Model 4) needs cement: sandstone scenes only")
     models = tuple(label for label in MODEL_LABELS if label in models_raw)
-    calibrations = {}
+    calibrations = {} if scene_cal is None else {"scene": scene_cal}
     for label in models:
         given = models_raw[label]
         if label in CALIBRATED_MODELS and isinstance(given, dict) \
@@ -284,6 +291,9 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
     for dotted in sweep:
         section, _, key = dotted.rpartition(".")
+        if scene_cal is not None and dotted in scene_cal["parameters"]:
+            raise ValueError(f"sweep {dotted}: that parameter is set by calibration "
+                             f"{scene_cal['name']!r}; sweep the calibration file instead")
         cal = calibrations.get(section.removeprefix("models."))
         if section.startswith("models.") and cal is not None and key in cal["parameters"]:
             raise ValueError(f"sweep {dotted}: that parameter is set by calibration "
@@ -298,7 +308,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
         except ValueError as exc:
             raise ValueError(f"scene key materials.{key}: {exc}") from None
     if text is None:
-        text = _to_toml(raw)
+        text = _to_toml(original)
     return Scene(head["name"], lithology, tuple(outputs), head["output"] or f"{head['name']}.nc",
                  models, sections, sweep, text, head["description"],
                  None if base_dir is None else str(base_dir), calibrations)

@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["ALIASES", "UNITS", "DEPTH_NAMES", "read_well", "read_las", "read_csv"]
+__all__ = ["ALIASES", "UNITS", "DEPTH_NAMES", "WELL_VARIABLES", "read_well", "read_las",
+           "read_csv", "model_at_well", "well_misfit"]
 
 #: Mnemonics of the depth (index) curve.
 DEPTH_NAMES = ("DEPT", "DEPTH", "MD", "TVD")
@@ -279,3 +280,99 @@ def read_well(path, *, depth_offset=0.0, null=-999.25):
         return read_csv(path, null=null, depth_offset=depth_offset)
     raise ValueError(f"well file {path.name!r}: unknown format {path.suffix!r}; give a .las "
                      "(LAS 2.0) or .csv file")
+
+
+#: Variables a well and a scene share, in the order they are compared.
+WELL_VARIABLES = ("vp", "vs", "density", "porosity")
+
+
+def model_at_well(ds, well, name):
+    """Scene variable ``name`` at the well's depths, linear in depth between scene depths.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset (dimension ``depth``, optional ``model``; no sweep dimensions).
+    well : xarray.Dataset
+        From :func:`read_well`.
+    name : str
+        A variable of both.
+
+    Returns
+    -------
+    xarray.DataArray
+        Dimensions ``depth`` (the well's) and ``model`` where the scene variable has it; NaN
+        where the well lies outside the scene's depth range (never extrapolated).
+    """
+    extra = [d for d in ds[name].dims if d not in ("depth", "model")]
+    if extra:
+        raise ValueError(f"scene variable {name} has sweep dimensions {extra}; select one "
+                         "member first (ds.isel(...))")
+    return ds[name].interp(depth=well.depth.values, method="linear")
+
+
+def well_misfit(ds, well, *, intervals=None, variables=None):
+    r"""Misfit of each model to a well log in each depth interval.
+
+    For every variable both hold (:data:`WELL_VARIABLES`), every model (model-independent
+    variables under the label ``"-"``) and every interval ``[top, base)``: the number of log
+    samples ``n`` with a finite value inside the scene's depth range, the root-mean-square
+    relative misfit :math:`\sqrt{\overline{(m/o - 1)^2}}` and the mean relative bias
+    :math:`\overline{m/o - 1}` (:math:`m` the model at the log's depths, linear between scene
+    depths; :math:`o` the log).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset without sweep dimensions.
+    well : xarray.Dataset
+        From :func:`read_well`.
+    intervals : sequence of float, optional
+        Interval boundaries, m, increasing (``[1000, 2000, 3000]`` gives two intervals).
+        Default: one interval over the depths both cover.
+    variables : sequence of str, optional
+        Default: all shared ones.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``variable``, ``model``, ``top``, ``base``, ``n``, ``rms``, ``bias``.
+    """
+    import pandas as pd
+
+    shared = [v for v in WELL_VARIABLES if v in ds.data_vars and v in well.data_vars]
+    if variables is not None:
+        unknown = [v for v in variables if v not in shared]
+        if unknown:
+            raise ValueError(f"variable {unknown[0]!r} is not in both the scene and the well "
+                             f"(shared: {', '.join(shared) or 'none'})")
+        shared = list(variables)
+    if not shared:
+        raise ValueError("the scene and the well share no variable of "
+                         f"{', '.join(WELL_VARIABLES)}")
+    lo = max(float(ds.depth.min()), float(well.depth.min()))
+    hi = min(float(ds.depth.max()), float(well.depth.max()))
+    if lo >= hi:
+        raise ValueError(f"the well ({float(well.depth.min()):g}-{float(well.depth.max()):g} m)"
+                         f" and the scene ({float(ds.depth.min()):g}-"
+                         f"{float(ds.depth.max()):g} m) share no depth range")
+    edges = np.asarray([lo, hi] if intervals is None else intervals, dtype=float)
+    if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
+        raise ValueError(f"intervals must be at least two increasing depths; got "
+                         f"{edges.tolist()}")
+    z = well.depth.values
+    rows = []
+    for name in shared:
+        modelled = model_at_well(ds, well, name)
+        labels = modelled.model.values.tolist() if "model" in modelled.dims else ["-"]
+        for label in labels:
+            m = modelled.sel(model=label).values if label != "-" else modelled.values
+            rel = m / well[name].values - 1.0
+            for top, base in zip(edges[:-1], edges[1:]):
+                sel = (z >= top) & (z < base) & np.isfinite(rel)
+                n = int(sel.sum())
+                rows.append({"variable": name, "model": label, "top": top, "base": base,
+                             "n": n,
+                             "rms": float(np.sqrt(np.mean(rel[sel] ** 2))) if n else np.nan,
+                             "bias": float(np.mean(rel[sel])) if n else np.nan})
+    return pd.DataFrame(rows)

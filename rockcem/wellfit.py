@@ -1,0 +1,325 @@
+"""Fitting a scene to a well: numeric scene keys by least squares against well logs.
+
+:func:`fit_scene` runs the scene, reduced to what the fitted logs need (the outputs ``vp``,
+``vs``, ``density``, ``porosity`` that the well has, and only the one model that ``vp``/``vs``
+come from), at trial values of the free keys, takes the model at the log's depths (linear
+between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. The result gives
+values, one-sigma uncertainties, their correlation, the misfit before and after, parameters on a
+bound, and parameters the logs do not determine; :meth:`SceneFit.write_calibration` writes a
+scene calibration file (``model = "scene"``) that any scene applies with its top-level key
+``calibration = "<file>"``.
+
+Uncertainties are the linearised ones of :func:`rockcem.calibrate.fit_parameters`: with
+``errors`` the measurement standard deviations (absolute), otherwise from the scatter of the
+relative residuals. A parameter is reported *unidentifiable* when its standard error is
+infinite or wider than its bounds, or when it is correlated with another by
+:math:`|r| > 0.999`: the logs then fix at best a combination of parameters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .wells import WELL_VARIABLES
+
+__all__ = ["DEFAULT_BOUNDS", "SceneFit", "fit_scene"]
+
+#: Bounds of keys that may be freed without giving them: the physical or plausible range.
+DEFAULT_BOUNDS = {
+    "path.gradient": (10.0, 80.0),
+    "path.sedimentation_rate": (1.0, 2000.0),
+    "path.surface_temperature": (-5.0, 40.0),
+    "sandstone.porosity0": (0.2, 0.5),
+    "sandstone.grain_size": (0.01, 5.0),
+    "sandstone.quartz_fraction": (0.01, 1.0),
+    "sandstone.clay_coating": (0.0, 0.99),
+    "sandstone.igv_final": (0.05, 0.35),
+    "sandstone.beta": (1e-4, 0.1),
+    "shale.porosity0": (0.2, 0.8),
+    "shale.beta": (1e-4, 0.1),
+    "models.patchy_cement.coordination_number": (4.0, 16.0),
+    "models.patchy_cement.contact_cement_limit": (0.005, 0.2),
+    "models.patchy_cement.delta": (0.0, 500.0),
+    "models.patchy_cement.thickness": (0.0, 0.5),
+    "models.patchy_cement.f": (0.0, 1.0),
+    "models.hs_gassmann.A": (1.0, 8.0),
+    "models.generalized_gassmann.A": (1.0, 8.0),
+    "models.self_consistent.aspect_ratio": (0.01, 1.0),
+}
+#: Correlation beyond which two parameters are reported as not separately determined.
+CORRELATION_LIMIT = 0.999
+
+
+@dataclass(frozen=True)
+class SceneFit:
+    """Outcome of :func:`fit_scene`.
+
+    Attributes
+    ----------
+    result : rockcem.calibrate.FitResult
+        Values, standard errors, covariance, misfit (before: ``misfit_initial``), chi2, dof.
+    scene, fitted : Scene
+        The reduced scene at the starting and at the fitted values.
+    model : str or None
+        The model ``vp``/``vs`` were fitted with.
+    variables : tuple of str
+        The logs fitted.
+    depth_range : (float, float)
+        Depth window of the fit, m.
+    points : dict
+        Number of log samples fitted per variable.
+    correlation : ndarray, shape (p, p)
+        Correlation of the parameters (order of ``result.values``).
+    unidentifiable : tuple of str
+        Parameters the logs do not determine (see the module docstring).
+    well_source : str
+        The well file.
+    weights : str
+        How the residuals were weighted.
+    """
+
+    result: object
+    scene: object
+    fitted: object
+    model: str | None
+    variables: tuple
+    depth_range: tuple
+    points: dict
+    correlation: np.ndarray = field(repr=False)
+    unidentifiable: tuple = ()
+    well_source: str = ""
+    weights: str = "relative residuals"
+
+    @property
+    def at_bound(self) -> tuple:
+        """Parameters that ended on a bound (their standard error understates the doubt)."""
+        return tuple(k for k, v in self.result.at_bound.items() if v)
+
+    def summary(self) -> str:
+        """A readable report: values ± errors, flags, correlation and misfit."""
+        r = self.result
+        lines = [f"fit of {self.scene.name} to {self.well_source or 'the well'}: "
+                 f"{', '.join(self.variables)}"
+                 + (f" (model {self.model})" if self.model else "")
+                 + f", {self.depth_range[0]:g}-{self.depth_range[1]:g} m, "
+                 + ", ".join(f"{v} {n}" for v, n in self.points.items()) + " samples"]
+        for k, v in r.values.items():
+            flags = [f for f, on in (("at bound", k in self.at_bound),
+                                     ("UNIDENTIFIABLE", k in self.unidentifiable)) if on]
+            lines.append(f"  {k} = {v:.6g} +- {r.stderr[k]:.3g}"
+                         + (f"  [{', '.join(flags)}]" if flags else ""))
+        names = list(r.values)
+        for i in range(len(names)):
+            for j in range(i + 1, len(names)):
+                lines.append(f"  correlation {names[i]} / {names[j]}: "
+                             f"{self.correlation[i, j]:+.3f}")
+        lines.append("  rms relative misfit: " + ", ".join(
+            f"{v} {r.misfit_initial[v]:.4f} -> {r.misfit[v]:.4f}" for v in r.misfit))
+        lines.append(f"  chi2 {r.chi2:.4g}, dof {r.dof}, converged {r.success}")
+        return "\n".join(lines)
+
+    def write_calibration(self, path, *, name=None, description=""):
+        """Write the fitted values as a scene calibration file (``model = "scene"``).
+
+        Returns
+        -------
+        pathlib.Path
+        """
+        from .calibrate import write_calibration
+
+        r = self.result
+        record = {"scene": self.scene.name, "model": self.model or "", "variables":
+                  list(self.variables), "depth_top": float(self.depth_range[0]),
+                  "depth_base": float(self.depth_range[1]), "chi2": r.chi2, "dof": r.dof,
+                  "success": r.success, "at_bound": list(self.at_bound),
+                  "unidentifiable": list(self.unidentifiable),
+                  "correlation": [[float(c) for c in row] for row in self.correlation],
+                  "initial": [float(self.scene.sections[k.rpartition(".")[0]]
+                                    [k.rpartition(".")[2]]) for k in r.values]}
+        return write_calibration(
+            path, name=name or f"{self.scene.name}_well_fit", model="scene",
+            parameters=dict(r.values), uncertainty=dict(r.stderr), misfit=dict(r.misfit),
+            description=description or f"scene {self.scene.name} fitted to well logs",
+            data=f"well {self.well_source}: {', '.join(self.variables)} at "
+                 f"{self.depth_range[0]:g}-{self.depth_range[1]:g} m",
+            weights=self.weights, references="", record=record)
+
+
+def _free(scene, free):
+    """``{key: (initial, lower, upper)}`` from keys, ``{key: (lo, hi)}`` or triples."""
+    from .scene import SCHEMA
+
+    items = free.items() if isinstance(free, dict) else [(k, None) for k in free]
+    out = {}
+    for key, given in items:
+        section, _, name = key.rpartition(".")
+        if section not in scene.sections or name not in scene.sections[section]:
+            raise ValueError(f"free parameter {key!r} is not a key of this scene (keys are "
+                             "'section.key', e.g. 'sandstone.beta' or "
+                             "'models.patchy_cement.delta')")
+        if SCHEMA[section][name][1] != "number":
+            raise ValueError(f"free parameter {key!r} is not numeric")
+        for label, cal in scene.calibrations.items():
+            param = key if label == "scene" else name
+            if (label == "scene" or section == f"models.{label}") \
+                    and param in cal["parameters"]:
+                raise ValueError(f"free parameter {key!r} is set by calibration "
+                                 f"{cal['name']!r}; remove it from the scene to fit it")
+        current = scene.sections[section][name]
+        if given is None:
+            if key not in DEFAULT_BOUNDS:
+                raise ValueError(f"free parameter {key!r} has no default bounds; give them "
+                                 f"({key}=LOWER:UPPER)")
+            given = DEFAULT_BOUNDS[key]
+        given = tuple(float(v) for v in given)
+        if len(given) == 2:
+            if current is None:
+                raise ValueError(f"free parameter {key!r} has no value in the scene; give a "
+                                 "start (initial, lower, upper)")
+            lo, hi = given
+            start = min(max(float(current), lo), hi)
+            given = (start, lo, hi)
+        if len(given) != 3 or not given[1] <= given[0] <= given[2] or given[1] >= given[2]:
+            raise ValueError(f"free parameter {key!r}: need lower < upper and the start "
+                             f"within them; got {given}")
+        out[key] = given
+    if not out:
+        raise ValueError("no free parameter given")
+    return out
+
+
+def _reduced(scene, well, variables, model):
+    """The scene computing only what the fit needs; the variables and the model."""
+    from .scene import MODEL_OUTPUTS, scene_from_dict
+
+    if scene.sweep:
+        raise ValueError("fit a scene without [sweep]")
+    can = [v for v in WELL_VARIABLES if v in well.data_vars
+           and (v not in MODEL_OUTPUTS or scene.models)]
+    if variables is None:
+        variables = can
+    missing = [v for v in variables if v not in can]
+    if missing:
+        raise ValueError(f"cannot fit {missing[0]!r}: the well and the scene share "
+                         f"{', '.join(can) or 'no log'}")
+    if not variables:
+        raise ValueError("the well has no log the scene models (vp, vs, density, porosity)")
+    raw = scene._raw()
+    needs_model = any(v in MODEL_OUTPUTS for v in variables)
+    if needs_model:
+        if model is None:
+            if len(scene.models) != 1:
+                raise ValueError(f"the scene has models {', '.join(scene.models)}: name the "
+                                 "one to fit vp/vs with (model=...)")
+            model = scene.models[0]
+        if model not in scene.models:
+            raise ValueError(f"model {model!r} is not in the scene ({', '.join(scene.models)})")
+        raw["models"] = {model: raw.get("models", {}).get(model, {})}
+    else:
+        model = None
+        raw.pop("models", None)
+    raw["outputs"] = list(variables)
+    raw.pop("sweep", None)
+    return scene_from_dict(raw, base_dir=scene.base_dir), tuple(variables), model
+
+
+def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, errors=None):
+    """Fit numeric scene keys to well logs by least squares.
+
+    Parameters
+    ----------
+    scene : Scene or str
+        A scene (or a scene file / shipped name), without a sweep.
+    well : xarray.Dataset or str
+        Logs from :func:`rockcem.wells.read_well`, or a file for it.
+    free : sequence of str or mapping
+        Keys ``"section.key"`` to fit: a list (bounds from :data:`DEFAULT_BOUNDS`, start at
+        the scene's value), or ``{key: (lower, upper)}`` or ``{key: (initial, lower, upper)}``.
+    model : str, optional, keyword-only
+        The model ``vp``/``vs`` come from; needed when the scene has several.
+    variables : sequence of str, optional, keyword-only
+        Logs to fit; default every one of ``vp``, ``vs``, ``density``, ``porosity`` both have.
+    depth : (float, float), optional, keyword-only
+        Depth window, m; default the depths both cover.
+    errors : mapping, optional, keyword-only
+        ``{variable: standard deviation}`` of the logs in their units (km/s, g/cm³, fraction):
+        residuals weighted by them and uncertainties taken as absolute. Default: relative
+        residuals.
+
+    Returns
+    -------
+    SceneFit
+    """
+    from .calibrate import fit_parameters
+    from .runner import evaluate
+    from .scene import Scene, load_scene
+    from .wells import read_well
+
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
+    source = ""
+    if not hasattr(well, "data_vars"):
+        source = str(well)
+        well = read_well(well)
+    else:
+        source = str(well.attrs.get("source_file", ""))
+    params = _free(scene, free)
+    reduced, variables, model = _reduced(scene, well, variables, model)
+    for key in params:
+        if key.rpartition(".")[0] not in reduced.sections:
+            raise ValueError(f"free parameter {key!r} belongs to a model the fitted logs "
+                             f"({', '.join(variables)}) do not use")
+    base = evaluate(reduced)
+    lo = max(float(base.depth.min()), float(well.depth.min()))
+    hi = min(float(base.depth.max()), float(well.depth.max()))
+    if depth is not None:
+        top, bottom = (float(d) for d in depth)
+        if not top < bottom:
+            raise ValueError(f"depth window must be TOP < BASE; got {top:g} {bottom:g}")
+        lo, hi = max(lo, top), min(hi, bottom)
+    if not lo < hi:
+        raise ValueError("the well, the scene and the depth window share no depth range")
+    z = well.depth.values
+    inside = (z >= lo) & (z <= hi)
+    masks = {v: inside & np.isfinite(well[v].values) for v in variables}
+    points = {v: int(m.sum()) for v, m in masks.items()}
+    short = [v for v, n in points.items() if n < 2]
+    if short:
+        raise ValueError(f"log {short[0]} has {points[short[0]]} samples in {lo:g}-{hi:g} m")
+    observed = {v: well[v].values[masks[v]] for v in variables}
+
+    def predict(**values):
+        member = reduced.replace(**values)
+        ds = evaluate(member)
+        out = {}
+        for v in variables:
+            arr = ds[v].sel(model=model) if "model" in ds[v].dims else ds[v]
+            out[v] = np.interp(z[masks[v]], ds.depth.values, arr.values)
+        return out
+
+    sigma = None if errors is None else {v: errors[v] for v in variables if v in errors}
+    if sigma is not None and set(sigma) != set(variables):
+        raise ValueError(f"errors must give a standard deviation for each fitted log: "
+                         f"{', '.join(variables)}")
+    result = fit_parameters(predict, observed, params, errors=sigma,
+                            absolute_errors=sigma is not None)
+    names = list(result.values)
+    cov = np.asarray(result.covariance, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = np.sqrt(np.diag(cov))
+        corr = cov / np.outer(d, d)
+    corr = np.where(np.isfinite(corr), corr, np.nan)
+    np.fill_diagonal(corr, 1.0)
+    bad = []
+    for i, k in enumerate(names):
+        width = params[k][2] - params[k][1]
+        others = np.abs(np.delete(corr[i], i))
+        if not np.isfinite(result.stderr[k]) or result.stderr[k] > width \
+                or np.any(others > CORRELATION_LIMIT) or np.any(np.isnan(others)):
+            bad.append(k)
+    weights = "relative residuals" if sigma is None else \
+        "absolute errors " + ", ".join(f"{k} {v:g}" for k, v in sigma.items())
+    return SceneFit(result, reduced, reduced.replace(**result.values), model, variables,
+                    (lo, hi), points, corr, tuple(bad), source, weights)

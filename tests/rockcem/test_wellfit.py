@@ -1,0 +1,110 @@
+"""Fitting a scene to well logs: recovery of known parameters, identifiability, calibration."""
+
+import tomllib
+
+import numpy as np
+import pytest
+
+from rockcem.runner import evaluate
+from rockcem.scene import load_scene, run_scene, scene_from_dict
+from rockcem.variables import build_dataset
+from rockcem.wellfit import fit_scene
+from rockcem.wells import well_misfit
+
+TRUE = {"models.patchy_cement.coordination_number": 7.0, "models.patchy_cement.delta": 60.0}
+SIGMA = {"vp": 0.05, "vs": 0.04, "density": 0.02}        # km/s, km/s, g/cm3
+
+
+@pytest.fixture(scope="module")
+def scene():
+    raw = tomllib.loads(load_scene("carcione2022_sandstone").text)
+    raw["path"].update(depth_step=20.0, max_depth=4000.0)
+    raw["models"] = {"patchy_cement": raw["models"]["patchy_cement"]}
+    return scene_from_dict(raw)
+
+
+@pytest.fixture(scope="module")
+def well(scene):
+    """Synthetic logs: the scene at TRUE plus Gaussian noise of SIGMA, every 5 m."""
+    ds = evaluate(scene.replace(**TRUE))
+    rng = np.random.default_rng(20261125)
+    z = np.arange(1000.0, 3800.0, 5.0)
+    data = {}
+    for v, s in SIGMA.items():
+        clean = ds[v].sel(model="patchy_cement") if "model" in ds[v].dims else ds[v]
+        data[v] = (("depth",), np.interp(z, ds.depth.values, clean.values)
+                   + rng.normal(0.0, s, z.size))
+    return build_dataset(data, {"depth": (("depth",), z)})
+
+
+def test_fit_recovers_known_parameters_within_their_uncertainties(scene, well):
+    fit = fit_scene(scene, well, list(TRUE), errors=SIGMA)
+    r = fit.result
+    assert r.success and not fit.unidentifiable and not fit.at_bound
+    for k, true in TRUE.items():
+        assert abs(r.values[k] - true) < 3.0 * r.stderr[k], (k, r.values[k], r.stderr[k])
+        assert r.stderr[k] < 0.05 * true                # and the logs do constrain them
+    # With the true errors the fit is statistically right: chi2/dof near 1.
+    assert abs(r.chi2 / r.dof - 1.0) < 5.0 * np.sqrt(2.0 / r.dof)
+    assert all(r.misfit[v] < r.misfit_initial[v] for v in ("vp", "vs"))
+    assert fit.model == "patchy_cement" and fit.scene.models == ("patchy_cement",)
+    assert set(fit.scene.outputs) == {"vp", "vs", "density"}    # only what the fit needs
+
+
+def test_degenerate_parameters_are_reported_unidentifiable(scene, well):
+    # The Walderhaug rate depends on quartz fraction and grain size only through f/D (eq. B.5).
+    fit = fit_scene(scene, well, ["sandstone.grain_size", "sandstone.quartz_fraction"],
+                    variables=["vp", "density"])
+    assert set(fit.unidentifiable) == {"sandstone.grain_size", "sandstone.quartz_fraction"}
+    assert abs(fit.correlation[0, 1]) > 0.999
+    assert "UNIDENTIFIABLE" in fit.summary()
+
+
+def test_parameter_the_logs_do_not_see(scene, well):
+    # Density does not depend on the patchy-cement frame: that model is not even run.
+    with pytest.raises(ValueError, match="belongs to a model the fitted logs"):
+        fit_scene(scene, well, ["models.patchy_cement.delta"], variables=["density"])
+
+
+def test_calibration_file_round_trip(scene, well, tmp_path):
+    fit = fit_scene(scene, well, list(TRUE), errors=SIGMA, depth=(1500.0, 3500.0))
+    assert fit.depth_range == (1500.0, 3500.0)
+    path = fit.write_calibration(tmp_path / "cal.toml")
+    raw = tomllib.loads(scene.text)
+    raw["calibration"] = "cal.toml"
+    for k in TRUE:                                       # the file sets them now
+        del raw["models"]["patchy_cement"][k.rpartition(".")[2]]
+    calibrated = scene_from_dict(raw, base_dir=tmp_path)
+    for k, v in fit.result.values.items():
+        section, _, key = k.rpartition(".")
+        assert calibrated.sections[section][key] == v
+    ds = run_scene(calibrated)
+    assert "cal.toml" in ds.attrs["calibration"] or path.name in ds.attrs["calibration"]
+    # Setting a calibrated key in the scene as well is refused.
+    raw["models"]["patchy_cement"]["delta"] = 10.0
+    with pytest.raises(ValueError, match="also set by calibration"):
+        scene_from_dict(raw, base_dir=tmp_path)
+
+
+def test_misfit_per_model_and_interval(scene, well):
+    ds = run_scene(scene.replace(**TRUE))
+    table = well_misfit(ds, well, intervals=[1000.0, 2000.0, 3800.0])
+    vp = table[table.variable == "vp"]
+    assert vp.model.tolist() == ["patchy_cement"] * 2 and vp.n.tolist() == [200, 360]
+    # At the true parameters the misfit is the noise: rms of sigma/vp.
+    z = well.depth.values
+    for (_, row), sel in zip(vp.iterrows(), ((z < 2000), (z >= 2000))):
+        expected = np.sqrt(np.mean((SIGMA["vp"] / well.vp.values[sel]) ** 2))
+        assert abs(row.rms - expected) < 0.2 * expected
+    assert table[table.variable == "density"].model.tolist() == ["-", "-"]
+
+
+@pytest.mark.parametrize("free, message", [
+    (["sandstone.nope"], "not a key of this scene"),
+    (["models.patchy_cement.scheme"], "not numeric"),
+    (["pressure.water_density"], "no default bounds"),
+    ({"sandstone.beta": (0.1, 0.01)}, "need lower < upper"),
+])
+def test_bad_free_parameters(scene, well, free, message):
+    with pytest.raises(ValueError, match=message):
+        fit_scene(scene, well, free)
