@@ -15,9 +15,9 @@ nor xarray; :mod:`matplotlib.pyplot` is imported inside the functions.
 from __future__ import annotations
 
 from ._save import save_figure
-from ._style import MODEL_LABELS
+from ._style import MAX_MEMBERS, MODEL_LABELS
 from .depth import depth_trends
 from .templates import rock_physics_template, velocity_porosity
 
-__all__ = ["MODEL_LABELS", "depth_trends", "velocity_porosity", "rock_physics_template",
-           "save_figure"]
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "velocity_porosity",
+           "rock_physics_template", "save_figure"]

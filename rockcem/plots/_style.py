@@ -26,6 +26,14 @@ _MODEL_MARKERS = {"hs_gassmann": "o", "self_consistent": "s", "generalized_gassm
 _EXTRA_MARKERS = ("v", "P", "X", "*")
 _INK = "#262626"                      # model-independent lines and template lines
 _LINESTYLES = ("-", "--", "-.", ":", (0, (5, 1.5, 1, 1.5, 1, 1.5)), (0, (1, 1)))
+#: Line style of each model: with the widths of :func:`_model_width` (widest drawn first) two
+#: models whose curves coincide (Models 1 and 3 nearly do) both stay visible.
+_MODEL_LINESTYLES = {"hs_gassmann": "-", "self_consistent": (0, (6, 2)),
+                     "generalized_gassmann": (0, (2.5, 1.5)),
+                     "patchy_cement": (0, (6, 2.5, 1.5, 2.5))}
+#: The most sweep members a figure draws (by shade, or one panel each); past it the figure
+#: refuses and names the dimension to select a member of.
+MAX_MEMBERS = 6
 _DEFAULT_TRENDS = ("porosity", "cement_fraction", "illite_fraction", "density", "vp", "vs")
 _SUFFIX_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
@@ -122,10 +130,29 @@ def _shade(colour, index: int, count: int):
     return tuple(c + (1.0 - c) * t for c in to_rgb(colour))
 
 
+def _model_linestyle(model, index: int):
+    return _MODEL_LINESTYLES.get(str(model), _LINESTYLES[index % len(_LINESTYLES)])
+
+
+def _model_style(model, index: int, count: int) -> dict:
+    """Colour, line style, width, marker and z-order of the ``index``-th of ``count`` models:
+    the first drawn widest and lowest, so that later, thinner, differently dashed lines over it
+    leave it visible where two models coincide."""
+    return {"color": _model_colour(model, index), "linestyle": _model_linestyle(model, index),
+            "linewidth": _model_width(index, count), "marker": _model_marker(model, index),
+            "zorder": 2.0 + 0.01 * index}
+
+
+def _model_size(index: int, count: int) -> float:
+    """Marker-size factor of the ``index``-th of ``count`` models: the first drawn largest, so
+    that points of coinciding models nest instead of hiding one another."""
+    return 1.0 + 1.2 * (count - 1 - index) / (count - 1) if count > 1 else 1.0
+
+
 def _model_width(index: int, count: int) -> float:
     """Line width of the ``index``-th of ``count`` models: wider first, so that models that
     coincide (Models 1 and 3 nearly do) stay visible under one another."""
-    return 1.0 + 1.5 * (count - 1 - index) / (count - 1) if count > 1 else 1.4
+    return 1.0 + 2.0 * (count - 1 - index) / (count - 1) if count > 1 else 1.4
 
 
 def _capital(text: str) -> str:
@@ -137,6 +164,52 @@ def _sweep_text(dim: str, value, ds) -> str:
     value = f"{value:g}" if isinstance(value, (int, float, np.number)) else str(value)
     units = _attrs(dim, ds).get("units")
     return f"{value} {_units_text(units)}" if units not in (None, "", "1") else value
+
+
+def _members(ds, arrays, purpose: str, how: str):
+    """Sweep members of ``arrays``: ``(dims, [(isel, label), ...])`` over the product of their
+    dimensions other than ``depth`` and ``model``, in ``ds``'s order.
+
+    Raises a one-line ValueError naming the largest dimension and how to select a member when
+    there are more than :data:`MAX_MEMBERS` members."""
+    dims = [str(d) for d in ds.dims if d not in ("depth", "model")
+            and any(d in a.dims for a in arrays)]
+    sizes = [ds.sizes[d] for d in dims]
+    count = int(np.prod(sizes)) if dims else 1
+    if count > MAX_MEMBERS:
+        big = dims[int(np.argmax(sizes))]
+        example = ds[big].values[0]
+        example = f"{example:g}" if isinstance(example, (int, float, np.number)) else example
+        raise ValueError(
+            f"{purpose} draws at most {MAX_MEMBERS} sweep members ({how}); this Dataset has "
+            f"{count} ({' x '.join(f'{d} {n}' for d, n in zip(dims, sizes))}): select values "
+            f"of {big!r} first (ds.sel({big}=...); rockcem plot --select {big}={example})")
+    members = []
+    for index in np.ndindex(*sizes):
+        isel = dict(zip(dims, index))
+        label = ", ".join(f"{d} = {_sweep_text(d, ds[d].values[i], ds)}"
+                          for d, i in isel.items())
+        members.append((isel, label))
+    return dims, members
+
+
+def _sweep_legend(fig, dims, members, ds):
+    """Legend of the sweep members' shades, below the figure (nothing for one member)."""
+    from matplotlib.lines import Line2D
+
+    if len(members) < 2:
+        return None
+    return fig.legend(handles=[Line2D([], [], color=_shade(_INK, j, len(members)), linewidth=2.0,
+                                      label=text.split(" = ", 1)[1] if len(dims) == 1 else text)
+                               for j, (_, text) in enumerate(members)],
+                      loc="outside lower center", ncols=min(len(members), 6),
+                      title=_sweep_title(dims, ds) + " (shade)")
+
+
+def _sweep_title(dims, ds) -> str:
+    """Legend title of the sweep: the long names of its dimensions."""
+    return ", ".join(_capital(str(_attrs(d, ds).get("long_name", d.replace("_", " "))))
+                     for d in dims)
 
 
 # ----------------------------------------------------------------------------- input checks

@@ -5,43 +5,55 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import (_INK, _LINESTYLES, _DEFAULT_TRENDS, _RC, _attrs, _label, _model_label,
-                     _model_colour, _shade, _model_width, _capital, _sweep_text,
-                     _check_dataset, _require, _figure)
+from ._style import (_INK, _DEFAULT_TRENDS, _RC, _label, _model_label, _model_style, _shade,
+                     _members, _sweep_legend, _check_dataset, _require, _figure)
 
 __all__ = ["depth_trends"]
 
 
-def depth_trends(ds, variables=None, *, fig=None):
+def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     """Depth trends of scene variables, one panel per variable, depth increasing downward.
 
     Model-dependent variables (those with a ``model`` dimension) get one line per model in the
-    model's colour; model-independent ones are drawn in dark grey. If the variables have one
-    further (sweep) dimension, e.g. ``gradient``, each of its values gets its own line style
-    and a lighter shade, and the legend gives its value and unit.
+    model's colour, line style and width (the first model widest and lowest, so that models
+    whose curves coincide both stay visible); model-independent ones are drawn in dark grey.
+    Every member of a sweep (the other dimensions of the variables, e.g. ``gradient``, and
+    their product when there are several) is drawn, each in its own lighter shade, with a
+    second legend giving the swept values and units; past
+    :data:`~rockcem.plots.MAX_MEMBERS` members the figure refuses and names the dimension to
+    select values of.
+
+    With ``temperature_axis`` and a ``temperature`` variable in ``ds``, the right edge of the
+    last panel carries a temperature scale read from it (one scale per distinct temperature
+    profile of the sweep, labelled with its member, e.g. for a gradient sweep).
 
     Parameters
     ----------
     ds : xarray.Dataset
         Scene Dataset: dimension ``depth`` (coordinate in m), optional ``model`` (labels such as
-        ``"hs_gassmann"``) and at most one sweep dimension among the plotted variables.
+        ``"hs_gassmann"``) and sweep dimensions.
     variables : sequence of str, optional
         Variables to plot, one panel each, in this order. Default: those of ``porosity``,
         ``cement_fraction``, ``illite_fraction``, ``density``, ``vp``, ``vs`` in ``ds``.
+    temperature_axis : bool, optional
+        Draw the temperature scale(s) (secondary axes with ``gid`` ``"temperature_axis"``)
+        when ``ds`` has ``temperature`` rising strictly with depth; default True.
     fig : matplotlib.figure.Figure, optional
         Empty figure to draw in; default a new one sized for the panels.
 
     Returns
     -------
     matplotlib.figure.Figure
-        One axes per variable, sharing the (inverted) depth axis.
+        One axes per variable, sharing the (inverted) depth axis, then the temperature
+        scales.
 
     Raises
     ------
     ValueError
         If ``ds`` has no ``depth`` dimension, a variable is not in ``ds`` (the closest name is
-        suggested) or lacks the depth dimension, or the variables have more than one sweep
-        dimension besides ``depth`` and ``model`` (select one slice with ``ds.sel`` first).
+        suggested) or lacks the depth dimension, or the sweep has more than
+        :data:`~rockcem.plots.MAX_MEMBERS` members (the message names the dimension to
+        select values of).
 
     Examples
     --------
@@ -77,13 +89,7 @@ def depth_trends(ds, variables=None, *, fig=None):
         if "depth" not in da.dims:
             raise ValueError(f"variable {name!r} has no 'depth' dimension (dims: {da.dims})")
         arrays.append(da)
-    extra = sorted({str(d) for da in arrays for d in da.dims} - {"depth", "model"})
-    if len(extra) > 1:
-        raise ValueError(f"the variables have more than one sweep dimension ({', '.join(extra)}); "
-                         "select one slice with ds.sel(...) or ds.isel(...) first, e.g. "
-                         f"ds.sel({extra[0]}=...)")
-    sweep = extra[0] if extra else None
-    sweep_values = list(ds[sweep].values) if sweep else [None]
+    dims, members = _members(ds, arrays, "depth_trends", "one shade of each model's colour")
     models = list(ds["model"].values) if "model" in ds.dims else []
     depth = np.asarray(ds["depth"].values, dtype=float)
 
@@ -91,45 +97,86 @@ def depth_trends(ds, variables=None, *, fig=None):
     from matplotlib.lines import Line2D
 
     with plt.rc_context(_RC):
-        fig = _figure(fig, (1.0 + 2.0 * len(variables), 5.2))
+        fig = _figure(fig, (1.0 + 2.0 * len(variables) + (0.6 if temperature_axis else 0.0),
+                            5.2))
         axes = np.atleast_1d(fig.subplots(1, len(variables), sharey=True, squeeze=False)[0])
         for k, (ax, da) in enumerate(zip(axes, arrays, strict=True)):
             series = [(m, i) for i, m in enumerate(models)] if "model" in da.dims else [(None, 0)]
-            swept = sweep is not None and sweep in da.dims
             for model, i in series:
-                colour = _model_colour(model, i) if model is not None else _INK
-                width = _model_width(i, len(models)) if model is not None else 1.4
+                style = (_model_style(model, i, len(models)) if model is not None else
+                         {"color": _INK, "linestyle": "-", "linewidth": 1.4, "zorder": 2.0})
+                style.pop("marker", None)
                 name = _model_label(model) if model is not None else str(da.name)
-                for j, value in enumerate(sweep_values if swept else [None]):
-                    sel = {"model": i} if model is not None else {}
-                    if swept:
-                        sel[sweep] = j
+                drawn = set()
+                for j, (isel, text) in enumerate(members):
+                    sel = {d: v for d, v in isel.items() if d in da.dims}
+                    if tuple(sel.items()) in drawn:
+                        continue                    # this variable does not change here
+                    drawn.add(tuple(sel.items()))
+                    colour = _shade(style["color"], j, len(members)) if sel else style["color"]
+                    if model is not None:
+                        sel["model"] = i
                     ax.plot(da.isel(sel).transpose("depth").values, depth,
-                            color=_shade(colour, j, len(sweep_values)) if swept else colour,
-                            linestyle=_LINESTYLES[j % len(_LINESTYLES)] if swept else "-",
-                            linewidth=width, label=name if not swept else
-                            f"{name}, {sweep} = {_sweep_text(sweep, value, ds)}")
+                            **{**style, "color": colour},
+                            label=f"{name}, {text}" if len(sel) > (model is not None)
+                            else name)
             ax.set_xlabel(_label(da.name, ds, width=26))
             if len(arrays) > 1:
                 ax.set_title(f"({chr(ord('a') + k)})", loc="left", fontweight="bold")
             ax.tick_params(labelleft=k == 0)
         axes[0].set_ylabel(_label("depth", ds))
         axes[0].set_ylim(depth.max(), depth.min())          # depth increases downward
+        if temperature_axis:
+            _temperature_axes(axes[-1], ds, members)
         if any("model" in da.dims for da in arrays):
-            fig.legend(handles=[Line2D([], [], color=_model_colour(m, i), label=_model_label(m),
-                                       linewidth=_model_width(i, len(models)))
+            fig.legend(handles=[Line2D([], [], **{k: v for k, v in
+                                                  _model_style(m, i, len(models)).items()
+                                                  if k in ("color", "linestyle", "linewidth")},
+                                       label=_model_label(m))
                                 for i, m in enumerate(models)],
                        loc="outside upper center", ncols=min(len(models), 4 if len(variables) > 2
                                                              else 2))
-        if sweep is not None and len(sweep_values) > 1:
-            attrs = _attrs(sweep, ds)
-            fig.legend(handles=[Line2D([], [], color=_shade(_INK, j, len(sweep_values)),
-                                       linestyle=_LINESTYLES[j % len(_LINESTYLES)],
-                                       label=_sweep_text(sweep, v, ds))
-                                for j, v in enumerate(sweep_values)],
-                       loc="outside lower center", ncols=min(len(sweep_values), 6),
-                       title=_capital(str(attrs.get("long_name", sweep.replace("_", " ")))))
+        _sweep_legend(fig, dims, members, ds)
     return fig
 
 
 # ----------------------------------------------------------------------------- velocity-porosity
+
+
+def _temperature_axes(ax, ds, members):
+    """Temperature scales on the right of ``ax``: one for every distinct temperature profile of
+    the sweep members (one when the sweep leaves temperature unchanged), each from the
+    Dataset's ``temperature`` by linear interpolation in depth. Profiles whose temperature does
+    not rise strictly with depth cannot be a scale and are left out."""
+    if "temperature" not in ds.data_vars or "depth" not in ds["temperature"].dims:
+        return []
+    temperature = ds["temperature"]
+    depth = np.asarray(ds["depth"].values, dtype=float)
+    profiles = []
+    for isel, text in members:
+        sel = {d: v for d, v in isel.items() if d in temperature.dims}
+        if "model" in temperature.dims:
+            sel["model"] = 0
+        t = np.asarray(temperature.isel(sel).transpose("depth").values, dtype=float)
+        if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
+            continue
+        if any(np.allclose(t, other, rtol=0, atol=1e-9) for other, _ in profiles):
+            continue
+        profiles.append((t, text if sel.keys() - {"model"} else ""))
+    axes = []
+    for k, (t, text) in enumerate(profiles):
+        def to_temperature(z, t=t):
+            return np.interp(z, depth, t, left=np.nan, right=np.nan)
+
+        def to_depth(temp, t=t):
+            return np.interp(temp, t, depth, left=np.nan, right=np.nan)
+
+        sec = ax.secondary_yaxis(1.0 if k == 0 else 1.0 + 0.34 * k,
+                                 functions=(to_temperature, to_depth))
+        label = _label("temperature", ds)
+        sec.set_ylabel(label if not text else label.replace(" (", f", {text} (", 1))
+        sec.set_gid("temperature_axis")
+        axes.append(sec)
+    if axes:
+        ax.tick_params(axis="y", which="both", right=False)
+    return axes

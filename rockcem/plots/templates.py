@@ -7,17 +7,10 @@ import difflib
 
 import numpy as np
 
-from ._style import (_INK, _RC, _label, _model_label, _model_colour, _model_marker, _check_dataset,
-                     _require, _material, _figure)
+from ._style import (_INK, _RC, _label, _model_label, _model_marker, _model_size, _model_style,
+                     _members, _shade, _sweep_legend, _check_dataset, _require, _material, _figure)
 
 __all__ = ["velocity_porosity", "rock_physics_template"]
-
-
-def _depth_rows(da):
-    """Values of ``da`` as one row per sweep member along depth, rows separated by NaN."""
-    rows = da.transpose(..., "depth").values.reshape(-1, da.sizes["depth"])
-    rows = np.concatenate([rows, np.full((rows.shape[0], 1), np.nan)], axis=1)
-    return rows.ravel()[:-1]
 
 
 def _saturated(dry, grain, fluid, porosity):
@@ -88,14 +81,19 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
     Returns
     -------
     matplotlib.figure.Figure
-        One axes: the data as lines with markers (one colour per model, one line along depth
-        per sweep member), the templates as dark grey lines.
+        One axes: the data as lines with markers (``gid`` ``"model:<label>"``; each model its
+        own colour, line style, width and marker, the first widest and lowest, markers of
+        different models at different depths, so coinciding models stay visible; one line
+        along depth per sweep member, in its own shade, with a legend of the swept values),
+        the templates as dark grey lines.
 
     Raises
     ------
     ValueError
         For an unknown ``velocity``, missing variables, materials that are neither given nor in
-        ``ds.attrs``, or parameters out of range.
+        ``ds.attrs``, parameters out of range, or more than
+        :data:`~rockcem.plots.MAX_MEMBERS` sweep members (the message names the dimension to
+        select values of).
 
     Examples
     --------
@@ -107,7 +105,7 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
     ...                    {"depth": (("depth",), depth)},
     ...                    {"grain": "quartz", "cement": "quartz_cement", "fluid": "water"})
     >>> fig = velocity_porosity(ds)
-    >>> sorted(line.get_gid() for line in fig.axes[0].lines if line.get_gid())[:2]
+    >>> sorted(ln.get_gid() for ln in fig.axes[0].lines if ln.get_gid().startswith("template"))[:2]
     ['template:constant_cement', 'template:contact_cement']
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
@@ -137,22 +135,35 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
 
     import matplotlib.pyplot as plt
     import xarray as xr
+    from matplotlib.lines import Line2D
 
     phi, v = xr.broadcast(phi, v)
+    dims, members = _members(ds, [phi, v], "velocity_porosity", "one shade of each model's colour")
     models = list(ds["model"].values) if "model" in v.dims else [None]
+    # About 20 markers a line, each model's from another start (distinct when they coincide).
+    step = max(len(models), (phi.sizes["depth"] + 1) // 20)
     with plt.rc_context(_RC):
-        fig = _figure(fig, (6.8, 4.0))
+        fig = _figure(fig, (6.8, 4.0 + (0.5 if len(members) > 1 else 0.0)))
         ax = fig.add_subplot()
+        handles = []
         for i, model in enumerate(models):
-            sel = {"model": i} if model is not None else {}
-            # One line along depth per sweep member (NaN breaks between members), with about
-            # 20 markers on each, so dense depth grids stay readable.
-            x, y = (_depth_rows(a.isel(sel)) for a in (phi, v))
-            ax.plot(x, y, marker=_model_marker(model, i), markersize=4.0, markeredgewidth=0.4,
-                    markeredgecolor="white", linewidth=1.2,
-                    markevery=max(1, (phi.sizes["depth"] + 1) // 20),
-                    color=_model_colour(model, i) if model is not None else _INK,
-                    label=_model_label(model) if model is not None else "data")
+            style = (_model_style(model, i, len(models)) if model is not None else
+                     {"color": _INK, "linestyle": "-", "linewidth": 1.2, "marker": "o",
+                      "zorder": 2.0})
+            label = _model_label(model) if model is not None else "data"
+            for j, (isel, text) in enumerate(members):
+                sel = dict(isel, **({"model": i} if model is not None else {}))
+                # Markers of the models fall on different depths (offset starts), so that
+                # models whose points coincide keep their markers visible.
+                ax.plot(phi.isel(sel).values, v.isel(sel).values,
+                        **{**style, "color": _shade(style["color"], j, len(members))},
+                        markersize=4.0 * _model_size(i, len(models)), markeredgewidth=0.4,
+                        markeredgecolor="white",
+                        markevery=(i * step // len(models), step),
+                        label=f"{label}, {text}" if text else label,
+                        gid=f"model:{model}" if model is not None else "data")
+            handles.append(Line2D([], [], **style, markersize=4.0 * _model_size(i, len(models)),
+                                  markeredgewidth=0.4, markeredgecolor="white", label=label))
         styles = {"soft_sand": "--", "stiff_sand": "-", "contact_cement": "-.",
                   "constant_cement": ":"}
         for key, (label, porosity, vel) in templates.items():
@@ -166,11 +177,13 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
         finite = v.values[np.isfinite(v.values)]
         low = float(getattr(templates["soft_sand"][2], velocity)[-1])
         ax.set_ylim(bottom=0.9 * min(low, finite.min()) if finite.size else 0.9 * low)
-        fig.legend(loc="outside right upper", title=(
+        handles += [ln for ln in ax.get_lines() if str(ln.get_gid()).startswith("template:")]
+        fig.legend(handles=handles, loc="outside right upper", title=(
             f"{grain.name or 'grain'} grains, {cement.name or 'cement'},\n"
             f"{fluid.name or 'fluid'}; $p_e$ = {pressure:.3g} MPa,\n"
             f"$n$ = {coordination_number:g}, $\\phi_c$ = {phic:g}"),
             title_fontsize=7.5, alignment="left")
+        _sweep_legend(fig, dims, members, ds)
     return fig
 
 
@@ -187,7 +200,9 @@ def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fl
     ``cement_fraction``; combinations with :math:`\phi + \phi_p > \phi_c` are left out.
     Impedance :math:`\rho V_P` (km/s·g/cm³) is on the horizontal axis and :math:`V_P/V_S` on the
     vertical one, as in the templates of Ødegaard and Avseth. With ``ds`` the Dataset's points
-    are drawn over it, one marker per model, coloured by depth.
+    are drawn over it, one marker shape and size per model (the first largest and lowest, so
+    coinciding models nest), coloured by depth; a swept Dataset gets one panel per sweep
+    member (at most :data:`~rockcem.plots.MAX_MEMBERS`), titled with its swept values.
 
     Parameters
     ----------
@@ -217,7 +232,8 @@ def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fl
     -------
     matplotlib.figure.Figure
         The template axes (iso-porosity lines with ``gid`` ``"porosity=<value>"``, iso-cement
-        lines with ``gid`` ``"cement_fraction=<value>"``) and, with ``ds``, a depth colour bar.
+        lines with ``gid`` ``"cement_fraction=<value>"``), one per sweep member, and, with
+        ``ds``, the points (``gid`` ``"model:<label>"``) and a depth colour bar.
 
     Examples
     --------
@@ -263,72 +279,116 @@ def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fl
     ratio[ok] = rock.vp / rock.vs
 
     import matplotlib.pyplot as plt
+
+    members, dims = [({}, "")], []
+    if ds is not None:
+        import xarray as xr
+
+        density, vp, vs = xr.broadcast(*data)
+        dims, members = _members(ds, [density, vp, vs], "rock_physics_template",
+                                 "one panel each")
+    ncols = min(len(members), 3)
+    nrows = -(-len(members) // ncols)
+    with plt.rc_context(_RC):
+        size = (6.2, 4.6) if ds is not None else (5.0, 4.2)
+        if len(members) > 1:
+            size = (3.3 * ncols + 1.0, 3.2 * nrows + 0.9)
+        fig = _figure(fig, size)
+        axes = fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False).ravel()
+        for ax in axes[len(members):]:
+            ax.remove()
+        axes = axes[:len(members)]
+        for k, ax in enumerate(axes):
+            _template_lines(ax, impedance, ratio, phi, phip, ok,
+                            legend=(k == 0) and (ax if len(members) == 1 else fig), title=(
+                f"Model 4 template: {grain.name or 'grain'}, {cement.name or 'cement'},\n"
+                f"{fluid.name or 'fluid'}, {pressure:g} MPa, $\\phi_c$ = {phic:g}"))
+            if len(members) > 1:
+                ax.set_title(members[k][1], fontsize=8.0)
+            if k % ncols == 0:
+                ax.set_ylabel(_label("vp_vs"))
+            if k >= len(members) - ncols:
+                ax.set_xlabel(_label("acoustic_impedance"))
+            ax.margins(x=0.06, y=0.08)
+        if ds is not None:
+            _data_points(fig, axes, ds, density, vp, vs, members)
+    return fig
+
+
+def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):
+    """Iso-porosity (dark) and iso-cement (dashed, shades of brown) lines of the template."""
+    import matplotlib.pyplot as plt
     from matplotlib import patheffects
     from matplotlib.lines import Line2D
 
-    with plt.rc_context(_RC):
-        fig = _figure(fig, (6.2 if ds is not None else 5.0, 4.6 if ds is not None else 4.2))
-        ax = fig.add_subplot()
-        cmap = plt.get_cmap("YlOrBr")
-        cement_colour = [cmap(0.45 + 0.5 * j / max(len(phip) - 1, 1)) for j in range(len(phip))]
-        halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
-        template = [Line2D([], [], color=_INK, linewidth=1.0, label="constant porosity $\\phi$")]
-        for j, c in enumerate(phip):
-            if ok[:, j].any():
-                ax.plot(impedance[:, j], ratio[:, j], color=cement_colour[j], linewidth=1.2,
-                        linestyle="--", marker="." if ok[:, j].sum() == 1 else "",
-                        gid=f"cement_fraction={c:g}", zorder=3)
-                template.append(Line2D([], [], color=cement_colour[j], linewidth=1.2,
-                                       linestyle="--", label=f"cement fraction $\\phi_p$ = {c:g}"))
-        leftmost = np.nanargmax(phi * ok.any(axis=1))
-        for i, p in enumerate(phi):
-            if ok[i].any():
-                ax.plot(impedance[i], ratio[i], color=_INK, linewidth=1.0,
-                        marker="." if ok[i].sum() == 1 else "", gid=f"porosity={p:g}", zorder=3.5)
-                j = np.flatnonzero(ok[i])[np.argmin(phip[ok[i]])]   # the least-cemented end
-                ax.annotate(f"$\\phi$ = {p:g}" if i == leftmost else f"{p:g}",
-                            (impedance[i, j], ratio[i, j]), xytext=(2, 3),
-                            textcoords="offset points", ha="left", va="bottom", fontsize=7,
-                            color=_INK, path_effects=halo, zorder=4)
-        ax.legend(handles=template, loc="upper right", title_fontsize=7.5,
-                           title=(f"Model 4 template: {grain.name or 'grain'}, "
-                                  f"{cement.name or 'cement'},\n{fluid.name or 'fluid'}, "
-                                  f"{pressure:g} MPa, $\\phi_c$ = {phic:g}"))
-        if ds is not None:
-            import xarray as xr
+    cmap = plt.get_cmap("YlOrBr")
+    cement_colour = [cmap(0.45 + 0.5 * j / max(len(phip) - 1, 1)) for j in range(len(phip))]
+    halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
+    template = [Line2D([], [], color=_INK, linewidth=1.0, label="constant porosity $\\phi$")]
+    for j, c in enumerate(phip):
+        if ok[:, j].any():
+            ax.plot(impedance[:, j], ratio[:, j], color=cement_colour[j], linewidth=1.2,
+                    linestyle="--", marker="." if ok[:, j].sum() == 1 else "",
+                    gid=f"cement_fraction={c:g}", zorder=3)
+            template.append(Line2D([], [], color=cement_colour[j], linewidth=1.2,
+                                   linestyle="--", label=f"cement fraction $\\phi_p$ = {c:g}"))
+    leftmost = np.nanargmax(phi * ok.any(axis=1))
+    for i, p in enumerate(phi):
+        if ok[i].any():
+            ax.plot(impedance[i], ratio[i], color=_INK, linewidth=1.0,
+                    marker="." if ok[i].sum() == 1 else "", gid=f"porosity={p:g}", zorder=3.5)
+            j = np.flatnonzero(ok[i])[np.argmin(phip[ok[i]])]   # the least-cemented end
+            ax.annotate(f"$\\phi$ = {p:g}" if i == leftmost else f"{p:g}",
+                        (impedance[i, j], ratio[i, j]), xytext=(2, 3),
+                        textcoords="offset points", ha="left", va="bottom", fontsize=7,
+                        color=_INK, path_effects=halo, zorder=4)
+    if legend is ax:
+        ax.legend(handles=template, loc="upper right", title_fontsize=7.5, title=title)
+    elif legend:                                       # facets: below them all
+        legend.legend(handles=template, loc="outside lower center", ncols=3,
+                      title_fontsize=7.5, title=title.replace("\n", " "))
 
-            density, vp, vs = xr.broadcast(*data)
-            depth = xr.broadcast(ds["depth"], vp)[0]
-            models = list(ds["model"].values) if "model" in vp.dims else [None]
-            norm = plt.Normalize(float(ds["depth"].min()), float(ds["depth"].max()))
-            markers = []
-            for i, model in enumerate(models):
-                sel = {"model": i} if model is not None else {}
-                d, p, s = (a.isel(sel).values.ravel() for a in (density, vp, vs))
-                good = s > 0.0
-                few = good.sum() <= 300                    # edges only where they stay visible
-                marker = _model_marker(model, i)
-                x, y = (d * p)[good], p[good] / s[good]
-                z = depth.isel(sel).values.ravel()[good]
-                points = ax.scatter(x, y, c=z, cmap="viridis_r", norm=norm, marker=marker,
-                                    s=14 if few else 6, linewidths=0.3 if few else 0.0,
-                                    edgecolors="0.25", zorder=2, alpha=0.85,
-                                    label=_model_label(model) if model is not None else "data")
-                if not few:                                # every k-th point marked, ~25 a model
-                    k = slice(None, None, -(-x.size // 25))
-                    ax.scatter(x[k], y[k], c=z[k], cmap="viridis_r", norm=norm, marker=marker,
-                               s=18, linewidths=0.4, edgecolors="0.2", zorder=2.2)
-                markers.append(Line2D([], [], linestyle="none", marker=marker, markersize=4.5,
-                                      markerfacecolor="0.8", markeredgecolor="0.25",
-                                      label=points.get_label()))
-            fig.legend(handles=markers, loc="outside upper center", ncols=2)
-            bar = fig.colorbar(points, ax=ax, pad=0.02)
-            bar.set_label(_label("depth"))
-            bar.ax.invert_yaxis()                          # depth increases downward
-        ax.set_xlabel(_label("acoustic_impedance"))
-        ax.set_ylabel(_label("vp_vs"))
-        ax.margins(x=0.06, y=0.08)
-    return fig
+
+def _data_points(fig, axes, ds, density, vp, vs, members):
+    """The Dataset's points on each panel (one sweep member a panel): a marker and size per
+    model (the first largest and lowest, so coinciding points nest), colour by depth, one
+    depth colour bar for all panels."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+    from matplotlib.lines import Line2D
+
+    depth = xr.broadcast(ds["depth"], vp)[0]
+    models = list(ds["model"].values) if "model" in vp.dims else [None]
+    norm = plt.Normalize(float(ds["depth"].min()), float(ds["depth"].max()))
+    handles = []
+    for ax, (isel, _text) in zip(axes, members):
+        handles = []
+        for i, model in enumerate(models):
+            sel = dict(isel, **({"model": i} if model is not None else {}))
+            d, p, s = (a.isel(sel).values.ravel() for a in (density, vp, vs))
+            good = s > 0.0
+            few = good.sum() <= 300                    # edges only where they stay visible
+            marker = _model_marker(model, i)
+            grow = _model_size(i, len(models))
+            x, y = (d * p)[good], p[good] / s[good]
+            z = depth.isel(sel).values.ravel()[good]
+            label = _model_label(model) if model is not None else "data"
+            points = ax.scatter(x, y, c=z, cmap="viridis_r", norm=norm, marker=marker,
+                                s=(14 if few else 6) * grow, linewidths=0.3 if few else 0.0,
+                                edgecolors="0.25", zorder=2 + 0.01 * i, alpha=0.85, label=label,
+                                gid=f"model:{model}" if model is not None else "data")
+            if not few:                                # every k-th point marked, ~25 a model
+                k = slice(i * (-(-x.size // 25)) // len(models), None, -(-x.size // 25))
+                ax.scatter(x[k], y[k], c=z[k], cmap="viridis_r", norm=norm, marker=marker,
+                           s=18 * grow, linewidths=0.4, edgecolors="0.2", zorder=2.2 + 0.01 * i,
+                           gid=f"model:{model}" if model is not None else "data")
+            handles.append(Line2D([], [], linestyle="none", marker=marker,
+                                  markersize=4.5 * np.sqrt(grow), markerfacecolor="0.8",
+                                  markeredgecolor="0.25", label=label))
+    fig.legend(handles=handles, loc="outside upper center", ncols=2 if len(axes) == 1 else 4)
+    bar = fig.colorbar(points, ax=list(axes), pad=0.02, shrink=1.0 if len(axes) == 1 else 0.8)
+    bar.set_label(_label("depth"))
+    bar.ax.invert_yaxis()                              # depth increases downward
 
 
 # ----------------------------------------------------------------------------- saving

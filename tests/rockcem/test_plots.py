@@ -1,6 +1,7 @@
 """Figures of rockcem.plots: panels, lines, labels with units, templates against direct calls,
 atomic saving, cheap import, errors."""
 
+import itertools
 import subprocess
 import sys
 
@@ -11,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+import xarray as xr
 
 from rockcem import plots
 from rockcem.plots import _style
@@ -118,15 +120,67 @@ def test_depth_trends_one_sweep_dimension():
     ds = scene(gradients=[25.0, 30.0, 35.0])
     fig = plots.depth_trends(ds, ["porosity", "vp", "pressure_effective"])
     assert [len(ax.get_lines()) for ax in fig.axes] == [3, 12, 1]
-    styles = {ln.get_linestyle() for ln in fig.axes[0].get_lines()}
-    assert len(styles) == 3
+    shades = {ln.get_color() for ln in fig.axes[0].get_lines()}
+    assert len(shades) == 3                                # one shade per member
     models, sweep = fig.legends
     assert len(models.get_texts()) == 4
     assert [t.get_text() for t in sweep.get_texts()] == ["25 °C/km", "30 °C/km", "35 °C/km"]
-    assert sweep.get_title().get_text() == "Geothermal gradient"
+    assert sweep.get_title().get_text() == "Geothermal gradient (shade)"
     line = labelled(fig.axes[1], "Model 2 (self-consistent), gradient = 35 °C/km")
     np.testing.assert_array_equal(line.get_xdata(),
                                   ds.vp.sel(model="self_consistent", gradient=35.0).values)
+
+
+def test_depth_trends_draw_every_member_of_two_sweep_dimensions():
+    ds = scene(gradients=[25.0, 35.0]).expand_dims(rate=[20.0, 40.0])
+    ds["vp"] = ds.vp * xr.DataArray([1.0, 1.1], dims="rate", coords={"rate": [20.0, 40.0]})
+    ax = plots.depth_trends(ds, ["vp"]).axes[0]
+    assert len(ax.get_lines()) == 4 * 2 * 2
+    for rate in (20.0, 40.0):
+        for g in (25.0, 35.0):
+            line = labelled(ax, f"Model 4 (patchy cement), rate = {rate:g}, gradient = {g:g} °C/km")
+            np.testing.assert_array_equal(line.get_xdata(), ds.vp.sel(
+                model="patchy_cement", gradient=g, rate=rate).values)
+    assert len({ln.get_color() for ln in ax.get_lines()
+                if ln.get_label().startswith("Model 4")}) == 4
+
+
+@pytest.mark.parametrize("kind", ["depth", "vp", "template"])
+def test_too_many_members_refused_naming_dimension_and_select(kind):
+    ds = scene(n=5, gradients=[20.0, 25.0, 30.0, 35.0]).expand_dims(rate=[20.0, 40.0])
+    draw = {"depth": plots.depth_trends, "vp": plots.velocity_porosity,
+            "template": plots.rock_physics_template}[kind]
+    with pytest.raises(ValueError, match=r"8 \(rate 2 x gradient 4\).*'gradient'.*"
+                                         r"--select gradient=20") as err:
+        draw(ds)
+    assert "\n" not in str(err.value)
+    draw(ds.sel(gradient=[20.0, 30.0]))                   # 4 members: drawn
+
+
+def temperature_axes(fig):
+    return [c for ax in fig.axes for c in ax.child_axes if c.get_gid() == "temperature_axis"]
+
+
+def test_depth_trends_temperature_axis():
+    ds = scene().assign(temperature=lambda d: 15.0 + 0.03 * d.depth)
+    fig = plots.depth_trends(ds, ["porosity", "vp"])
+    fig.canvas.draw()
+    (sec,) = temperature_axes(fig)
+    assert sec.get_ylabel() == "Temperature (°C)"
+    low, high = sec.get_ylim()                             # depth 4000 m down to 0 m
+    assert low == pytest.approx(15.0 + 0.03 * 4000.0) and high == pytest.approx(15.0)
+    assert temperature_axes(plots.depth_trends(ds, ["vp"], temperature_axis=False)) == []
+
+
+def test_depth_trends_temperature_axis_per_gradient():
+    ds = scene(gradients=[20.0, 30.0])
+    ds["temperature"] = 15.0 + ds.gradient * ds.depth / 1000.0
+    fig = plots.depth_trends(ds, ["vp"])
+    fig.canvas.draw()
+    secs = temperature_axes(fig)
+    assert [ax.get_ylabel() for ax in secs] == [
+        "Temperature, gradient = 20 °C/km (°C)", "Temperature, gradient = 30 °C/km (°C)"]
+    assert [ax.get_ylim()[0] for ax in secs] == pytest.approx([15.0 + 80.0, 15.0 + 120.0])
 
 
 def test_depth_trends_without_model_dimension_has_no_legend():
@@ -151,10 +205,6 @@ def test_depth_trends_errors():
         plots.depth_trends(ds.isel(depth=0))
     with pytest.raises(ValueError, match="'depth' dimension"):
         plots.depth_trends(ds.assign(p0=ds.porosity.isel(depth=0)), ["p0"])
-    two = scene(gradients=[25.0, 30.0]).expand_dims(rate=[20.0, 40.0])
-    with pytest.raises(ValueError, match=r"more than one sweep dimension.*\.sel"):
-        plots.depth_trends(two)
-    plots.depth_trends(two.sel(rate=20.0))                 # selecting one slice works
     with pytest.raises(ValueError, match="Dataset"):
         plots.depth_trends(ds.vp)
     with pytest.raises(ValueError, match="default variables"):
@@ -198,7 +248,7 @@ def test_velocity_porosity_templates_match_direct_calls(velocity):
     assert ax.get_xlabel() == "Porosity (–)"
     assert ax.get_ylabel() == ("P-wave velocity (km/s)" if velocity == "vp"
                                else "S-wave velocity (km/s)")
-    data = [ln for ln in ax.get_lines() if not ln.get_gid()]
+    data = [ln for ln in ax.get_lines() if ln.get_gid().startswith("model:")]
     assert [ln.get_label() for ln in data] == [plots.MODEL_LABELS[m] for m in MODELS]
     np.testing.assert_array_equal(data[1].get_ydata(),
                                   ds[velocity].sel(model="self_consistent").values)
@@ -225,13 +275,14 @@ def test_velocity_porosity_defaults_and_overrides():
 
 def test_velocity_porosity_sweep_members_are_separate_lines():
     ds = scene(n=11, gradients=[25.0, 35.0])
-    ax = plots.velocity_porosity(ds).axes[0]
-    line = labelled(ax, plots.MODEL_LABELS["hs_gassmann"])
-    y = np.asarray(line.get_ydata())
-    assert y.size == 2 * 11 + 1 and np.isnan(y[11])       # a break between the members
-    np.testing.assert_array_equal(y[12:], ds.vp.sel(model="hs_gassmann", gradient=35.0).values)
-    x = np.asarray(line.get_xdata())
-    np.testing.assert_array_equal(x[:11], ds.porosity.sel(gradient=25.0).values)
+    fig = plots.velocity_porosity(ds)
+    ax = fig.axes[0]
+    line = labelled(ax, plots.MODEL_LABELS["hs_gassmann"] + ", gradient = 35 °C/km")
+    np.testing.assert_array_equal(line.get_ydata(),
+                                  ds.vp.sel(model="hs_gassmann", gradient=35.0).values)
+    np.testing.assert_array_equal(line.get_xdata(), ds.porosity.sel(gradient=35.0).values)
+    assert len([ln for ln in ax.get_lines() if ln.get_gid().startswith("model:")]) == 8
+    assert [t.get_text() for t in fig.legends[1].get_texts()] == ["25 °C/km", "35 °C/km"]
 
 
 def test_velocity_porosity_errors():
@@ -303,6 +354,83 @@ def test_rock_physics_template_errors():
         plots.rock_physics_template(porosity=[0.35], cement_fraction=[0.05])
     with pytest.raises(ValueError, match="vs"):
         plots.rock_physics_template(scene().drop_vars("vs"))
+
+
+# ----------------------------------------------------------------------------- coinciding models
+def coinciding(n=41):
+    """The hand-made scene with all four models giving the same velocities."""
+    ds = scene(n=n)
+    for name in ("vp", "vs"):
+        ds[name] = ds[name].copy(data=np.broadcast_to(ds[name].isel(model=0).values,
+                                                      ds[name].shape).copy())
+    return ds
+
+
+def model_artists(fig, kind):
+    ax = fig.axes[0]
+    if kind == "depth":
+        found = {m: [ln for ln in ax.get_lines() if ln.get_label() == plots.MODEL_LABELS[m]]
+                 for m in MODELS}
+    else:
+        pool = ax.get_lines() if kind == "vp" else ax.collections
+        found = {m: [a for a in pool if a.get_gid() == f"model:{m}"] for m in MODELS}
+    assert all(found.values()), found
+    return {m: a[0] for m, a in found.items()}
+
+
+@pytest.mark.parametrize("kind", ["depth", "vp"])
+def test_coinciding_model_lines_differ_and_the_lower_is_wider(kind):
+    ds = coinciding()
+    fig = (plots.depth_trends(ds, ["vp"]) if kind == "depth" else plots.velocity_porosity(ds))
+    lines = model_artists(fig, kind)
+    looks = {m: (str(ln.get_linestyle()), ln.get_linewidth(), ln.get_marker())
+             for m, ln in lines.items()}
+    assert len(set(looks.values())) == 4, looks            # no two models drawn alike
+    order = sorted(lines.values(), key=lambda ln: ln.get_zorder())
+    widths = [ln.get_linewidth() for ln in order]
+    assert widths == sorted(widths, reverse=True) and len(set(widths)) == 4
+    if kind == "vp":                                       # markers at different depths
+        starts = {ln.get_markevery()[0] for ln in lines.values()}
+        assert len(starts) == 4
+
+
+def test_coinciding_model_points_nest_in_the_template():
+    fig = plots.rock_physics_template(coinciding(), porosity=[0.2], cement_fraction=[0.0])
+    points = model_artists(fig, "template")
+    order = sorted(points.values(), key=lambda c: c.get_zorder())
+    sizes = [float(c.get_sizes()[0]) for c in order]
+    assert sizes == sorted(sizes, reverse=True) and len(set(sizes)) == 4
+    shapes = {c.get_paths()[0].vertices.round(3).tobytes() for c in points.values()}
+    assert len(shapes) == 4
+
+
+def colour_pixels(fig, colour):
+    """Pixels of the rendered figure within 10/255 of ``colour`` in every channel."""
+    fig.set_dpi(100)
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(float)
+    target = 255.0 * np.asarray(matplotlib.colors.to_rgb(colour))
+    return int((np.abs(rgb - target).max(axis=-1) <= 10.0).sum())
+
+
+def pair_coinciding(a, b):
+    """Four models, of which ``a`` and ``b`` give the same velocities, the others apart."""
+    ds = scene(n=41)
+    base = ds.vp.isel(model=0).values
+    vp = np.stack([base + (0.0 if m in (a, b) else 1.0 + k) for k, m in enumerate(MODELS)])
+    return ds.assign(vp=ds.vp.copy(data=vp), vs=ds.vs.copy(data=vp / 1.7))
+
+
+@pytest.mark.parametrize("kind", ["depth", "vp"])
+@pytest.mark.parametrize("a, b", list(itertools.combinations(MODELS, 2)))
+def test_two_coinciding_models_are_both_seen_in_the_rendered_figure(kind, a, b):
+    ds = pair_coinciding(a, b)
+    fig = (plots.depth_trends(ds, ["vp"], fig=plt.figure(figsize=(3, 5))) if kind == "depth"
+           else plots.velocity_porosity(ds))
+    for legend in fig.legends:
+        legend.set_visible(False)                          # count the curves only
+    seen = {m: colour_pixels(fig, _style._MODEL_COLOURS[m]) for m in (a, b)}
+    assert min(seen.values()) >= 60, seen                  # a hidden curve leaves ~0
 
 
 # ----------------------------------------------------------------------------- saving
