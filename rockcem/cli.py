@@ -42,6 +42,8 @@ def _summary(ds) -> str:
             v = deep.sel(model=m)
             vs = f", vs {float(v.vs):.3f}" if "vs" in ds else ""
             lines.append(f"  {m}: vp {float(v.vp):.3f}{vs} km/s at {float(ds.depth[-1]):g} m")
+    for line in filter(None, ds.attrs.get("validity_warnings", "").split("\n")):
+        lines.append(f"warning: {line}")
     return "\n".join(lines)
 
 
@@ -117,17 +119,49 @@ def _plot(args) -> int:
     if args.kind == "vp-porosity" and ds.attrs.get("lithology") != "sandstone":
         raise ValueError("--kind vp-porosity draws the contact models of a sandstone; "
                          f"{path.name} is not a sandstone scene")
-    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
-    if args.kind != "depth" and sweeps:
-        ds = ds.isel({d: 0 for d in sweeps})
+    ds = _select(ds, args.select or [])
+    if args.well:
+        from .cli_wells import plot_with_well
+
+        return plot_with_well(ds, args, path)
     draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
             "template": plots.rock_physics_template}[args.kind]
     out = args.output or path.with_name(f"{path.stem}_{args.kind}.png")
-    if args.kind == "depth" and len(sweeps) > 1:
-        ds = ds.isel({d: 0 for d in sweeps[1:]})
     saved = plots.save_figure(draw(ds), out)
     print(f"wrote {saved}")
     return 0
+
+
+def _select(ds, selections):
+    """``ds`` reduced by ``--select KEY=VALUE`` options (KEY a sweep dimension, or the scene key
+    ``section.key`` that made it; several values of one key accumulate)."""
+    import numpy as np
+
+    chosen = {}
+    for item in selections:
+        key, eq, text = item.partition("=")
+        dim = key.strip().rpartition(".")[2]
+        if not eq or not dim or not text.strip():
+            raise ValueError(f"--select {item!r}: expected KEY=VALUE, e.g. gradient=30")
+        if dim not in ds.dims or dim == "depth":
+            sweeps = [str(d) for d in ds.dims if d != "depth"]
+            raise ValueError(f"--select {item}: {dim!r} is not a sweep dimension of the file "
+                             f"(dimensions: {', '.join(sweeps) or 'none'})")
+        values = ds[dim].values
+        if np.issubdtype(values.dtype, np.number):
+            try:
+                value = float(text)
+            except ValueError:
+                raise ValueError(f"--select {item}: {text!r} is not a number") from None
+            match = np.flatnonzero(np.isclose(values.astype(float), value, rtol=1e-9, atol=0))
+        else:
+            match = np.flatnonzero(values.astype(str) == text.strip())
+        if match.size == 0:
+            shown = ", ".join(f"{v:g}" if isinstance(v, (int, float, np.number)) else str(v)
+                              for v in values)
+            raise ValueError(f"--select {item}: no such value of {dim} (values: {shown})")
+        chosen.setdefault(dim, []).append(int(match[0]))
+    return ds.isel({d: i if len(i) > 1 else i[0] for d, i in chosen.items()})
 
 
 def _scenes(args) -> int:
@@ -161,6 +195,7 @@ def _schema(args) -> int:
 
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
+    from .cli_wells import add_commands, add_well_options
 
     parser = argparse.ArgumentParser(prog="rockcem", description="Rock physics of burial history.")
     parser.add_argument("--version", action="version", version=f"rockcem {__version__}")
@@ -182,8 +217,13 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("file", help="netCDF file written by `rockcem run`")
     p.add_argument("--kind", choices=["depth", "vp-porosity", "template"], default="depth",
                    help="depth trends (default), velocity-porosity, or the rock-physics template")
+    p.add_argument("--select", action="append", metavar="KEY=VALUE",
+                   help="draw only these values of a sweep dimension (e.g. gradient=30 or "
+                        "path.gradient=30; repeat for more values or dimensions)")
     p.add_argument("-o", "--output", help="figure file (.png, .pdf, .svg)")
+    add_well_options(p, required=False)
     p.set_defaults(func=_plot)
+    add_commands(sub)
     p = sub.add_parser("demo", help="run the sandstone example; write a netCDF file and a figure")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     p.set_defaults(func=_demo)

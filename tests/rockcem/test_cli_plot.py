@@ -1,0 +1,90 @@
+"""`rockcem plot` on swept files (every member drawn, --select, one-line refusals) and the
+validity warnings in the run summary."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from rockcem import cli, plots
+from rockcem.scene import run_scene, scene_from_dict, write_dataset
+
+SWEPT = {"name": "t", "lithology": "sandstone",
+         "path": {"max_depth": 3000.0, "depth_step": 250.0},
+         "models": {"hs_gassmann": {}, "patchy_cement": {}},
+         "sweep": {"path.gradient": [20.0, 30.0, 40.0], "sandstone.grain_size": [0.2, 0.4, 0.6]}}
+
+
+@pytest.fixture(scope="module")
+def swept_file(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("swept")
+    write_dataset(run_scene(scene_from_dict(SWEPT)), folder / "s.nc")
+    return folder / "s.nc"
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures `rockcem plot` would save, kept open for inspection."""
+    figures = []
+
+    def keep(fig, path, **_):
+        figures.append(fig)
+        return path
+
+    monkeypatch.setattr(plots, "save_figure", keep)
+    yield figures
+    plt.close("all")
+
+
+def test_plot_refuses_nine_members_naming_the_dimension_and_select(swept_file, drawn, capsys):
+    for kind in ("depth", "vp-porosity", "template"):
+        assert cli.main(["plot", str(swept_file), "--kind", kind]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "9 (gradient 3 x grain_size 3)" in err, err
+        assert "--select gradient=20" in err
+    assert drawn == []
+
+
+def test_plot_select_draws_every_remaining_member(swept_file, drawn, capsys):
+    args = ["plot", str(swept_file), "--select", "sandstone.grain_size=0.4"]
+    assert cli.main(args + ["--kind", "template"]) == 0
+    panels = [ax for ax in drawn[-1].axes if ax.get_label() != "<colorbar>"]
+    assert [ax.get_title() for ax in panels] == [f"gradient = {g} °C/km" for g in (20, 30, 40)]
+    assert cli.main(args + ["--select", "gradient=20", "--select", "gradient=40"]) == 0
+    vp = next(ax for ax in drawn[-1].axes if ax.get_xlabel().startswith("P-wave"))
+    labels = [ln.get_label() for ln in vp.get_lines()]
+    assert labels == [f"{m}, gradient = {g} °C/km" for m in (plots.MODEL_LABELS["hs_gassmann"],
+                                                              plots.MODEL_LABELS["patchy_cement"])
+                      for g in (20, 40)]
+    assert cli.main(args + ["--select", "path.gradient=30", "--kind", "vp-porosity"]) == 0
+    (ax,) = drawn[-1].axes
+    assert len([ln for ln in ax.get_lines() if ln.get_gid().startswith("model:")]) == 2
+
+
+@pytest.mark.parametrize("select, message", [
+    ("porosity=0.2", "'porosity' is not a sweep dimension of the file (dimensions: gradient, "),
+    ("gradient=25", "no such value of gradient (values: 20, 30, 40)"),
+    ("gradient=warm", "'warm' is not a number"),
+    ("gradient", "expected KEY=VALUE"),
+])
+def test_plot_select_errors_in_one_line(swept_file, drawn, capsys, select, message):
+    assert cli.main(["plot", str(swept_file), "--select", select]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1, err
+
+
+def test_run_summary_lists_the_validity_warnings():
+    ds = run_scene(scene_from_dict(dict(SWEPT, sweep={}, path={"max_depth": 6000.0,
+                                                                "depth_step": 100.0})))
+    text = cli._summary(ds)
+    loose = ds.depth.values[ds.porosity.values > 0.9 * 0.36]
+    filled = ds.depth.values[ds.pore_filled.values == 1]
+    assert loose[0] == 0.0 and filled[-1] == 6000.0
+    assert (f"warning: Models 1 (Krief frame) at 0–{loose[-1]:g} m: porosity above 0.324"
+            not in text)                                   # Model 3 is not in this scene
+    assert f"warning: Model 1 (Krief frame) at 0–{loose[-1]:g} m: porosity above 0.324" in text
+    assert f"warning: quartz cement at {filled[0]:g}–6000 m" in text
+    assert np.all(np.diff(loose) == 100.0)                 # one interval from the surface
