@@ -157,6 +157,11 @@ def horizon_paths(horizon, time_before_present, depth, temperature) -> HorizonPa
         paths.append((name, rows, t, z[rows], T[rows]))
     _check_order(paths)
     paths.sort(key=lambda p: (p[3][-1], -p[2][0]))
+    for a, b in zip(paths, paths[1:]):
+        if a[3][-1] == b[3][-1]:
+            raise ValueError(f"row {b[1][-1] + 1}, column depth: horizons {a[0]!r} and "
+                             f"{b[0]!r} both lie at {b[3][-1]:g} m today; the depth axis "
+                             "needs distinct present-day depths (keep one of them)")
     width = max(p[1].size for p in paths)
 
     def padded(values):

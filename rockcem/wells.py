@@ -85,7 +85,7 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     """The Dataset from ``columns = [(mnemonic, unit, values), ...]``, depth first."""
     from .variables import build_dataset
 
-    name, unit, depth = columns[0]
+    name, depth_unit, depth = columns[0]
     if _unit_key(name) not in DEPTH_NAMES:
         raise ValueError(f"{source}: no depth curve: the first curve is {name!r}; it must be "
                          f"one of {', '.join(DEPTH_NAMES)}")
@@ -93,7 +93,7 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     if not np.all(np.isfinite(depth)) or np.any(depth == null):
         row = int(np.flatnonzero(~np.isfinite(depth) | (depth == null))[0])
         raise ValueError(f"{source}: depth curve {name!r} has no value in data row {row + 1}")
-    depth = depth * _factor(f"{source}: depth curve {name!r}", "depth", unit) \
+    depth = depth * _factor(f"{source}: depth curve {name!r}", "depth", depth_unit) \
         - float(depth_offset)
     order = np.argsort(depth, kind="stable")
     depth = depth[order]
@@ -140,7 +140,7 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     ds = build_dataset({k: v[:2] for k, v in data.items()}, {"depth": (("depth",), depth)},
                        {"title": f"well {well}".strip(), "well": str(well),
                         "source_file": str(source), "depth_offset_m": float(depth_offset),
-                        "source_depth_curve": f"{name} ({unit})"})
+                        "source_depth_curve": f"{name} ({depth_unit})"})
     for k, v in data.items():
         ds[k].attrs.update(v[2])
     return ds

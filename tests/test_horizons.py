@@ -88,7 +88,7 @@ def test_hiatus_keeps_cement_below_onset_and_reheating_grows_it():
 
 def test_uplift_does_not_decompact():
     h = horizon_paths(["A"] * 3 + ["B"] * 2, [60.0, 30.0, 0.0, 60.0, 0.0],
-                      [0.0, 3000.0, 1000.0, 0.0, 1000.0], [15.0, 105.0, 45.0, 15.0, 45.0])
+                      [0.0, 3000.0, 990.0, 0.0, 1000.0], [15.0, 105.0, 45.0, 15.0, 45.0])
     from burial import pressures
 
     p = pressures(h.path)
@@ -96,7 +96,7 @@ def test_uplift_does_not_decompact():
     pe_max = 1e-3 * STANDARD_GRAVITY * (2.5 - 1.04) * 3000.0      # eq. 1 at the deepest burial
     np.testing.assert_allclose(p.max_effective[uplifted, -1], pe_max, rtol=1e-14)
     igv = intergranular_volume(0.36, p.max_effective[:, -1], 0.2, 0.01)
-    assert igv[uplifted] < igv[1 - uplifted]       # same depth now, compacted by its past
+    assert igv[uplifted] < igv[1 - uplifted]       # shallower now, compacted by its past
     np.testing.assert_allclose(igv[uplifted], intergranular_volume(0.36, pe_max, 0.2, 0.01),
                                rtol=1e-15)
 
@@ -130,6 +130,13 @@ def test_crossing_horizons_are_refused():
                                          r"older horizon 'A' at 10 Myr.*cross"):
         horizon_paths(["A"] * 3 + ["B"] * 3, [30, 10, 0, 20, 10, 0],
                       [0, 500, 1000, 0, 600, 800], [15, 30, 45, 15, 33, 39])
+
+
+def test_horizons_at_one_present_depth_are_refused():
+    with pytest.raises(ValueError, match=r"row 4, column depth: horizons 'A' and 'B' both lie "
+                                         r"at 500 m"):
+        horizon_paths(["A", "A", "B", "B"], [30, 0, 20, 0], [0, 500, 0, 500],
+                      [15, 30, 15, 30])
 
 
 def test_shifted_path_refuses_uplift():

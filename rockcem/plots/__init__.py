@@ -18,6 +18,8 @@ from ._save import save_figure
 from ._style import MAX_MEMBERS, MODEL_LABELS
 from .depth import depth_trends
 from .templates import rock_physics_template, velocity_porosity
+from .wells import fit_figure, well_overlay, well_template
 
 __all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "velocity_porosity",
-           "rock_physics_template", "save_figure"]
+           "rock_physics_template", "save_figure", "well_overlay", "well_template",
+           "fit_figure"]

@@ -1,0 +1,156 @@
+"""The well commands of the ``rockcem`` command line: ``compare``, ``fit`` and ``plot --well``.
+
+Kept apart from :mod:`rockcem.cli`, which registers them (:func:`add_commands`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["add_commands", "add_well_options", "plot_with_well"]
+
+
+def _well(args):
+    from .wells import read_well
+
+    return read_well(args.well, depth_offset=args.depth_offset)
+
+
+def _scene_dataset(source):
+    """A scene's Dataset: a netCDF file written by ``rockcem run``, or a scene to run."""
+    import xarray as xr
+
+    path = Path(source)
+    if path.suffix == ".nc":
+        if not path.is_file():
+            raise ValueError(f"no such file: {source}")
+        try:
+            return xr.load_dataset(path, engine="netcdf4")
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"{source} is not a readable netCDF file: {exc}") from None
+    from .scene import load_scene, run_scene
+
+    return run_scene(load_scene(source))
+
+
+def _compare(args) -> int:
+    import pandas as pd
+
+    from .wells import well_misfit
+
+    ds = _scene_dataset(args.scene)
+    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    if sweeps:
+        raise ValueError(f"{args.scene} has sweep dimensions {', '.join(sweeps)}; compare one "
+                         "member (rockcem plot --select, or a scene without [sweep])")
+    well = _well(args)
+    table = well_misfit(ds, well, intervals=args.intervals)
+    name = well.attrs.get("well") or Path(args.well).name
+    print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name}: rms and mean of "
+          "model/log - 1 per depth interval (m)")
+    with pd.option_context("display.width", 120, "display.max_rows", 500):
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    return 0
+
+
+def _free_keys(items):
+    free = {}
+    for item in items:
+        key, eq, bounds = item.partition("=")
+        if not eq:
+            free[key.strip()] = None
+            continue
+        lo, colon, hi = bounds.partition(":")
+        try:
+            free[key.strip()] = (float(lo), float(hi))
+        except ValueError:
+            raise ValueError(f"--free {item}: expected KEY or KEY=LOWER:UPPER") from None
+        if not colon:
+            raise ValueError(f"--free {item}: expected KEY or KEY=LOWER:UPPER")
+    return free
+
+
+def _fit(args) -> int:
+    from .plots import fit_figure, save_figure
+    from .scene import load_scene, scene_path
+    from .wellfit import fit_scene
+
+    scene = load_scene(args.scene)
+    free = _free_keys(args.free)                  # bounds None: rockcem.wellfit's defaults
+    errors = None
+    if args.error:
+        errors = {}
+        for item in args.error:
+            name, eq, value = item.partition("=")
+            try:
+                errors[name.strip()] = float(value)
+            except ValueError:
+                raise ValueError(f"--error {item}: expected LOG=SIGMA, e.g. vp=0.05") from None
+    fit = fit_scene(scene, _well(args), free, model=args.model, variables=args.log,
+                    depth=args.depth, errors=errors)
+    if not args.quiet:
+        print(fit.summary())
+    stem = scene_path(args.scene).stem
+    cal = fit.write_calibration(args.output or f"{stem}_well_fit.toml")
+    png = save_figure(fit_figure(fit, _well(args)), args.figure or f"{stem}_well_fit.png")
+    if not args.quiet:
+        keys = ", ".join(fit.result.values)
+        print(f"wrote {cal} and {png}\nto use it: add  calibration = \"{cal}\"  at the top of "
+              f"the scene and remove the keys it sets ({keys})")
+    return 0
+
+
+def plot_with_well(ds, args, path):
+    """``rockcem plot FILE --well LOG``: the logs over the depth trends or the template."""
+    from . import plots
+
+    if args.kind not in ("depth", "template"):
+        raise ValueError("--well draws on --kind depth or --kind template")
+    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    if sweeps:
+        raise ValueError(f"--well needs one member: select values of {', '.join(sweeps)} "
+                         "with --select")
+    well = _well(args)
+    fig = plots.well_overlay(ds, well) if args.kind == "depth" else \
+        plots.well_template(ds, well)
+    out = args.output or path.with_name(f"{path.stem}_{args.kind}_well.png")
+    print(f"wrote {plots.save_figure(fig, out)}")
+    return 0
+
+
+def add_well_options(p, *, required):
+    """The options naming a well log."""
+    p.add_argument("--well", required=required,
+                   help="well log: LAS 2.0 or CSV (units from the header)")
+    p.add_argument("--depth-offset", type=float, default=0.0, metavar="M",
+                   help="subtracted from the log depth to give depth below the sediment "
+                        "surface (m; default 0)")
+
+
+def add_commands(sub):
+    """Register ``compare`` and ``fit`` on the CLI's subparsers."""
+    p = sub.add_parser("compare", help="misfit of each model to a well log per depth interval")
+    p.add_argument("scene", help="netCDF file of `rockcem run`, or a scene to run")
+    add_well_options(p, required=True)
+    p.add_argument("--intervals", type=float, nargs="+", metavar="DEPTH",
+                   help="interval boundaries in m (default: one interval over the overlap)")
+    p.set_defaults(func=_compare)
+    p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares")
+    p.add_argument("scene", help="scene file or shipped scene name")
+    add_well_options(p, required=True)
+    p.add_argument("--free", action="append", required=True, metavar="KEY[=LO:HI]",
+                   help="scene key to fit, 'section.key' (repeat; bounds default for the "
+                        "common keys, rockcem.wellfit.DEFAULT_BOUNDS)")
+    p.add_argument("--model", help="model vp/vs come from (needed with several models)")
+    p.add_argument("--log", action="append", choices=["vp", "vs", "density", "porosity"],
+                   help="log to fit (repeat; default all the scene and well share)")
+    p.add_argument("--depth", type=float, nargs=2, metavar=("TOP", "BASE"),
+                   help="depth window in m")
+    p.add_argument("--error", action="append", metavar="LOG=SIGMA",
+                   help="standard deviation of a log in its units (repeat for every fitted "
+                        "log; default: relative residuals)")
+    p.add_argument("-o", "--output", help="calibration file to write "
+                                          "(default <scene>_well_fit.toml)")
+    p.add_argument("--figure", help="before/after figure (default <scene>_well_fit.png)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no report")
+    p.set_defaults(func=_fit)

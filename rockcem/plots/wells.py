@@ -1,0 +1,156 @@
+"""Well logs over the modelled depth trends and on the rock-physics template; a fit's
+before/after figure."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["well_overlay", "well_template", "fit_figure"]
+
+_WELL_COLOUR = "#7F7F7F"
+_WELL_VARIABLES = ("vp", "vs", "density", "porosity")
+
+
+def _log_style(n):
+    """Dots for sparse logs, a thin line for dense ones (drawn under the models)."""
+    return ({"linestyle": "none", "marker": ".", "markersize": 3.0} if n <= 200 else
+            {"linewidth": 0.6}) | {"color": _WELL_COLOUR, "alpha": 0.8, "zorder": 1.0}
+
+
+def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
+    """Well logs drawn over a scene's depth trends (one panel per shared variable).
+
+    The panels are those of :func:`rockcem.plots.depth_trends` (models in their colours); the
+    logs are drawn in grey beneath them, labelled with the well's name.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset (no sweep dimension; select a member first).
+    well : xarray.Dataset
+        From :func:`rockcem.wells.read_well` (depth m, vp/vs km/s, density g/cm³, porosity).
+    variables : sequence of str, optional
+        Default: those of ``vp``, ``vs``, ``density``, ``porosity`` both hold.
+    depth : (float, float), optional
+        Depth range shown, m; default the scene's and the well's together.
+    fig : matplotlib.figure.Figure, optional
+        Empty figure to draw in.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The depth-trend axes with the log lines (``gid`` ``"well:<variable>"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rockcem.variables import build_dataset
+    >>> z = np.linspace(0.0, 3000.0, 31)
+    >>> ds = build_dataset({"vp": (("depth",), 2.0 + 1e-3 * z)}, {"depth": (("depth",), z)})
+    >>> well = build_dataset({"vp": (("depth",), [3.1, 3.9])}, {"depth": (("depth",), [1000.0,
+    ...                      2000.0])})
+    >>> fig = well_overlay(ds, well)
+    >>> [line.get_gid() for line in fig.axes[0].lines if line.get_gid()]
+    ['well:vp']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
+    """
+    from .depth import depth_trends
+
+    shared = [v for v in _WELL_VARIABLES if v in ds.data_vars and v in well.data_vars]
+    if variables is None:
+        variables = shared
+    missing = [v for v in variables if v not in shared]
+    if missing or not variables:
+        raise ValueError(f"variable {missing[0] if missing else None!r} is not in both the "
+                         f"scene and the well (shared: {', '.join(shared) or 'none'})")
+    fig = depth_trends(ds, list(variables), temperature_axis=False, fig=fig)
+    name = well.attrs.get("well") or well.attrs.get("source_file") or "well"
+    z = well.depth.values
+    for ax, v in zip(fig.axes, variables):
+        values = well[v].values
+        line, = ax.plot(values, z, label=f"{name} ({well[v].attrs.get('source_mnemonic', v)})",
+                        gid=f"well:{v}", **_log_style(np.isfinite(values).sum()))
+        ax.legend(handles=[line], loc="lower left", fontsize=7.0, frameon=False)
+    lo = min(float(ds.depth.min()), float(z.min())) if depth is None else float(depth[0])
+    hi = max(float(ds.depth.max()), float(z.max())) if depth is None else float(depth[1])
+    fig.axes[0].set_ylim(hi, lo)
+    return fig
+
+
+def well_template(ds, well, *, fig=None, **template):
+    """The rock-physics template with the scene's points and the well's samples over it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset with ``density``, ``vp``, ``vs``.
+    well : xarray.Dataset
+        Logs with ``density``, ``vp`` and ``vs``.
+    fig : matplotlib.figure.Figure, optional
+    **template
+        Passed to :func:`rockcem.plots.rock_physics_template` (materials, pressure, grid).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The template, with the well's samples in grey (``gid`` ``"well"``).
+    """
+    from .templates import rock_physics_template
+
+    need = [v for v in ("density", "vp", "vs") if v not in well.data_vars]
+    if need:
+        raise ValueError(f"the template needs the well's density, vp and vs; it has no "
+                         f"{need[0]}")
+    fig = rock_physics_template(ds, fig=fig, **template)
+    ax = fig.axes[0]
+    impedance = well.density.values * well.vp.values
+    ratio = well.vp.values / well.vs.values
+    ax.plot(impedance, ratio, linestyle="none", marker=".", markersize=2.5,
+            color=_WELL_COLOUR, alpha=0.6, zorder=2.0, gid="well",
+            label=str(well.attrs.get("well") or "well"))
+    return fig
+
+
+def fit_figure(fit, well, *, fig=None):
+    """Before/after figure of a scene fitted to a well (:func:`rockcem.wellfit.fit_scene`).
+
+    One panel per fitted log: the log in grey, the scene at its starting values (dashed) and
+    at the fitted values (solid), the fit's depth window shaded, and the fitted values with
+    their uncertainties in the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    from ..runner import evaluate
+    from ._style import _RC, _label
+
+    before, after = evaluate(fit.scene), evaluate(fit.fitted)
+    variables = list(fit.variables)
+    with plt.rc_context(_RC):
+        if fig is None:
+            fig = plt.figure(figsize=(1.2 + 2.3 * len(variables), 5.6), layout="constrained")
+        axes = np.atleast_1d(fig.subplots(1, len(variables), sharey=True, squeeze=False)[0])
+        for ax, v in zip(axes, variables):
+            ax.plot(well[v].values, well.depth.values, label="well",
+                    **_log_style(np.isfinite(well[v].values).sum()))
+            for ds, style, text in ((before, {"linestyle": "--", "color": "#0072B2"},
+                                     "before"),
+                                    (after, {"linestyle": "-", "color": "#D55E00"}, "after")):
+                da = ds[v].sel(model=fit.model) if "model" in ds[v].dims else ds[v]
+                ax.plot(da.values, ds.depth.values, linewidth=1.6, label=text, gid=text,
+                        **style)
+            ax.axhspan(*fit.depth_range, color="#F0E442", alpha=0.15, zorder=0)
+            ax.set_xlabel(_label(v, after, width=26))
+        axes[0].set_ylabel(_label("depth", after))
+        z = well.depth.values
+        axes[0].set_ylim(max(float(after.depth.max()), float(z.max())),
+                         min(float(after.depth.min()), float(z.min())))
+        axes[0].legend(loc="lower left", fontsize=7.0, frameon=False)
+        r = fit.result
+        fig.suptitle("; ".join(f"{k.rpartition('.')[2]} = {r.values[k]:.4g} ± "
+                               f"{r.stderr[k]:.2g}" for k in r.values)
+                     + (f"  ({fit.model})" if fit.model else ""), fontsize=9.0)
+    return fig
