@@ -306,10 +306,12 @@ def run(scene, *, scheduler=None, progress=False):
     members = [(index, coords, member) for index, (coords, member)
                in zip(np.ndindex(*[len(v) for v in values]), _sweep_members(scene))]
     if scheduler is None:
-        from tqdm.auto import tqdm
+        if progress:
+            # tqdm.auto only when asked: in a notebook without ipywidgets its import warns.
+            from tqdm.auto import tqdm
 
-        results = [(index, evaluate(member)) for index, _c, member
-                   in tqdm(members, desc=scene.name, disable=not progress, unit="member")]
+            members = tqdm(members, desc=scene.name, unit="member")
+        results = [(index, evaluate(member)) for index, _c, member in members]
     else:
         results = _run_dask(members, scheduler, progress)
     # The sweep is a full Cartesian product: fill one array per variable directly (much faster

@@ -163,6 +163,8 @@ def _temperature_axes(ax, ds, members):
         if any(np.allclose(t, other, rtol=0, atol=1e-9) for other, _ in profiles):
             continue
         profiles.append((t, text if sel.keys() - {"model"} else ""))
+    if len(profiles) == 1:                  # the sweep leaves temperature unchanged
+        profiles = [(profiles[0][0], "")]
     axes = []
     for k, (t, text) in enumerate(profiles):
         def to_temperature(z, t=t):
