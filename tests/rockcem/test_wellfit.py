@@ -108,3 +108,29 @@ def test_misfit_per_model_and_interval(scene, well):
 def test_bad_free_parameters(scene, well, free, message):
     with pytest.raises(ValueError, match=message):
         fit_scene(scene, well, free)
+
+
+def test_scene_calibration_refusals(scene, tmp_path):
+    from rockcem.calibrate import write_calibration
+
+    write_calibration(tmp_path / "bad_key.toml", name="b", model="scene",
+                      parameters={"sandstone.nope": 1.0})
+    write_calibration(tmp_path / "model.toml", name="m", model="patchy_cement",
+                      parameters={"delta": 1.0})
+    write_calibration(tmp_path / "beta.toml", name="beta", model="scene",
+                      parameters={"sandstone.beta": 0.02})
+    raw = tomllib.loads(scene.text)
+    for file, change, message in (
+            ("bad_key.toml", {}, "'sandstone.nope' .* is not a numeric scene key"),
+            ("model.toml", {}, r"calibrates model 'patchy_cement'; name it in "
+                               r"\[models.patchy_cement\]"),
+            ("beta.toml", {"sweep": {"sandstone.beta": [0.01, 0.02]}},
+             "sweep sandstone.beta: that parameter is set by calibration 'beta'")):
+        given = {**raw, **change, "calibration": file}
+        given["sandstone"] = {k: v for k, v in raw["sandstone"].items() if k != "beta"}
+        with pytest.raises(ValueError, match=message):
+            scene_from_dict(given, base_dir=tmp_path)
+    applied = scene_from_dict({**raw, "calibration": "beta.toml", "sandstone": {
+        k: v for k, v in raw["sandstone"].items() if k != "beta"}}, base_dir=tmp_path)
+    assert applied.sections["sandstone"]["beta"] == 0.02
+    assert applied.calibrations["scene"]["name"] == "beta"
