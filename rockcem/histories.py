@@ -100,6 +100,10 @@ def read_history_table(path, kind) -> dict:
         if key not in _UNITS[col]:
             raise ValueError(f"history table {path.name}: column {col!r}: unit {unit!r} is "
                              f"not understood; use one of {', '.join(_UNITS[col])}")
+        if kind == "nodes" and col == "time" and key == "MA":
+            raise ValueError(f"history table {path.name}: column 'time' is time since "
+                             "deposition for kind = 'nodes': give it in Myr (Ma is an age, "
+                             "before present)")
         scale, shift = _UNITS[col][key]
         nums = pd.to_numeric(pd.Series(values), errors="coerce").to_numpy(dtype=float)
         bad = np.flatnonzero(np.isnan(nums))

@@ -172,3 +172,16 @@ def test_csv_table_with_units_in_the_header(sandstone_raw, tmp_path):
 def test_bad_path_sections(sandstone_raw, path, message):
     with pytest.raises(ValueError, match=message):
         _with_path(sandstone_raw, path)
+
+
+def test_nodes_table_from_csv(sandstone_raw, linear, tmp_path):
+    (tmp_path / "n.csv").write_text("time (Myr),depth (ft),temperature (degC)\n"
+                                    "0,0,15\n75,9842.519685,105\n")
+    (tmp_path / "ma.csv").write_text("time (Ma),depth (m),temperature (degC)\n0,0,15\n")
+    ds = run_scene(scene_from_dict({**sandstone_raw, "path": {
+        "kind": "nodes", "table": "n.csv", "depth_step": 100.0}}, base_dir=tmp_path))
+    assert ds.depth.size == 31 and abs(float(ds.depth[-1]) - 3000.0) < 1e-3
+    np.testing.assert_allclose(ds.porosity.values, linear.porosity.values, rtol=1e-6)
+    with pytest.raises(ValueError, match="time since deposition .* Myr"):
+        scene_from_dict({**sandstone_raw, "path": {"kind": "nodes", "table": "ma.csv"}},
+                        base_dir=tmp_path)
