@@ -20,8 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["lattice_table", "grain_cement_bonds", "contact_forces", "lattice_forces",
-           "gershgorin_rows", "leapfrog_run"]
+__all__ = ["lattice_table", "grain_cement_bonds", "interface_patches", "contact_forces",
+           "lattice_forces", "gershgorin_rows", "leapfrog_run"]
 
 
 @njit(cache=True)
@@ -56,23 +56,27 @@ def lattice_table(cells, where, nx, ny, nz, offsets, first, table):
 
 
 @njit(cache=True)
-def grain_cement_bonds(x, r, where, lx, ly, z0, cw, nx, ny, nz, count_only, bi, bj, nrm):
-    """Grain–cement bonds: every cemented cell whose cube intersects a grain's sphere.
+def grain_cement_bonds(x, r, where, lx, ly, z0, cw, nx, ny, nz, faces, count_only, bi, bj, nrm):
+    """Grain–cement bonds: every cemented cell whose cube intersects a grain's sphere, and with
+    ``faces`` also every cemented cell one of whose 6 face neighbours has its centre inside the
+    grain (the pore cells along the staircase boundary of the grain, whose cube may stop short
+    of the sphere).
 
     ``bi`` gets the grain, ``bj`` the cement particle's index *among the cement particles*
     (``where[cell]``), ``nrm`` the unit vector from the grain centre to the cell centre (minimum
     image in x and y). Returns the number of bonds.
     """
     h = 0.5 * cw
+    pad = 1 if faces else 0
     n = 0
     for g in range(x.shape[0]):
         rg = r[g]
-        i0 = int(np.floor((x[g, 0] - rg) / cw))
-        i1 = int(np.floor((x[g, 0] + rg) / cw))
-        j0 = int(np.floor((x[g, 1] - rg) / cw))
-        j1 = int(np.floor((x[g, 1] + rg) / cw))
-        k0 = max(int(np.floor((x[g, 2] - rg - z0) / cw)), 0)
-        k1 = min(int(np.floor((x[g, 2] + rg - z0) / cw)), nz - 1)
+        i0 = int(np.floor((x[g, 0] - rg) / cw)) - pad
+        i1 = int(np.floor((x[g, 0] + rg) / cw)) + pad
+        j0 = int(np.floor((x[g, 1] - rg) / cw)) - pad
+        j1 = int(np.floor((x[g, 1] + rg) / cw)) + pad
+        k0 = max(int(np.floor((x[g, 2] - rg - z0) / cw)) - pad, 0)
+        k1 = min(int(np.floor((x[g, 2] + rg - z0) / cw)) + pad, nz - 1)
         for ii in range(i0, i1 + 1):
             i = ii % nx
             cx = (ii + 0.5) * cw
@@ -84,15 +88,20 @@ def grain_cement_bonds(x, r, where, lx, ly, z0, cw, nx, ny, nz, count_only, bi, 
                     if q < 0:
                         continue
                     cz = z0 + (k + 0.5) * cw
+                    dx = cx - x[g, 0]
+                    dy = cy - x[g, 1]
+                    dz = cz - x[g, 2]
                     qx = min(max(x[g, 0], cx - h), cx + h) - x[g, 0]
                     qy = min(max(x[g, 1], cy - h), cy + h) - x[g, 1]
                     qz = min(max(x[g, 2], cz - h), cz + h) - x[g, 2]
-                    if qx * qx + qy * qy + qz * qz >= rg * rg:
+                    hit = qx * qx + qy * qy + qz * qz < rg * rg
+                    if faces and not hit:
+                        d2 = dx * dx + dy * dy + dz * dz + cw * cw
+                        m = max(abs(dx), max(abs(dy), abs(dz)))
+                        hit = d2 - 2.0 * cw * m < rg * rg     # the nearest face neighbour
+                    if not hit:
                         continue
                     if not count_only:
-                        dx = cx - x[g, 0]
-                        dy = cy - x[g, 1]
-                        dz = cz - x[g, 2]
                         norm = np.sqrt(dx * dx + dy * dy + dz * dz)
                         bi[n] = g
                         bj[n] = q
@@ -101,6 +110,52 @@ def grain_cement_bonds(x, r, where, lx, ly, z0, cw, nx, ny, nz, count_only, bi, 
                         nrm[n, 2] = dz / norm
                     n += 1
     return n
+
+
+@njit(cache=True)
+def _root(parent, b):
+    """Root of ``b`` in the union–find forest ``parent``, halving the path on the way."""
+    while parent[b] != b:
+        parent[b] = parent[parent[b]]
+        b = parent[b]
+    return b
+
+
+@njit(cache=True)
+def interface_patches(bond_grain, start, table, first, label):
+    """Connected patches of the grain–cement interface.
+
+    Bonds are sorted by cement particle: those of cement particle ``p`` are
+    ``start[p]:start[p + 1]``, ``bond_grain[b]`` the grain of bond ``b``. Two bonds belong to
+    the same patch when they join the *same grain* to two cement particles that share a
+    lattice bond (``table``, rows by cement particle, entries ``first + q`` or −1), and
+    patches are the transitive closure (union–find). ``label[b]`` gets a patch number in
+    ``0 .. n_patches - 1`` (numbered by first bond). Returns ``n_patches``.
+    """
+    n = bond_grain.shape[0]
+    parent = np.arange(n)
+    for p in range(table.shape[0]):
+        for d in range(table.shape[1]):
+            q = table[p, d]
+            if q < 0:
+                continue
+            q -= first
+            for b1 in range(start[p], start[p + 1]):
+                for b2 in range(start[q], start[q + 1]):
+                    if bond_grain[b1] == bond_grain[b2]:
+                        r1 = _root(parent, b1)
+                        r2 = _root(parent, b2)
+                        if r1 != r2:
+                            parent[max(r1, r2)] = min(r1, r2)
+    n_patches = 0
+    for b in range(n):
+        r = _root(parent, b)
+        if r == b:
+            label[b] = n_patches
+            n_patches += 1
+        else:
+            label[b] = label[r]
+    return n_patches
 
 
 @njit(cache=True, inline="always")

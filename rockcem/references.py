@@ -66,6 +66,9 @@ REFERENCES: dict[str, str] = {
         "García, X., and Medina, E., 2007. Acoustic response of cemented granular sedimentary "
         "rocks: molecular dynamics modeling. Physical Review E 75, 061308."
     ),
+    "Johnson1985": (
+        "Johnson, K. L., 1985. Contact Mechanics. Cambridge University Press."
+    ),
     "Walton1987": (
         "Walton, K., 1987. The effective elastic moduli of a random packing of spheres. "
         "J. Mech. Phys. Solids 35, 213-226."

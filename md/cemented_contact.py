@@ -1,0 +1,229 @@
+r"""One cemented contact on the cement lattice, against the cemented-contact theory.
+
+Two equal grains of radius :math:`R` on the z axis, their surfaces :math:`2\varepsilon R` apart
+(:math:`\varepsilon = 0`: touching, no Hertz contact), joined by cement filling the gap within
+radius :math:`a = \alpha R` of the axis — the cement body of Dvorkin et al.'s contact cement
+theory ([Dvorkin1994]_; scheme 1 of :func:`rockcem.granular.contact_cement`). The lattice
+(:func:`md.cement_lattice` at resolution :math:`\Omega`) is cut, the pore cells inside that body
+are cemented, the operator of :func:`md.acoustic_system` is assembled, and the static stiffness
+of the bond is solved directly: the lower grain held, the upper one moved along z (normal) or x
+(tangential, no rotation), the cement relaxed, the reaction on the upper grain read.
+
+The theory's stiffness of the same bond is :math:`k_n = \pi M_c R\,S(\alpha, \Lambda_n,
+\varepsilon)` and :math:`k_t = \pi G_c R\,S(\alpha, \Lambda_\tau(1-\nu/2), \varepsilon)` with
+:math:`S` the solution of the integral equation of
+:func:`rockcem.contact_integral.cemented_contact_stiffness`,
+:math:`\Lambda_n = M_c(1-\nu)/(\pi G)` and :math:`\Lambda_\tau = G_c/(\pi G)`. (Its rigid-grain
+limit :math:`\Lambda \to 0` is the thin layer in uniaxial strain, :math:`\pi M_c R \ln(1 +
+\alpha^2/2\varepsilon)`; its rigid-cement limit is the welded contact of two flat punches in
+series, :math:`k_n = aE/(1-\nu^2)`, :math:`k_t = 4Ga/(2-\nu)`.) The normalisation: at
+:math:`\Lambda \to 0`, :math:`S = \int_0^\alpha t\,dt/(\varepsilon + t^2/2)`, and the layer of
+local thickness :math:`2R(\varepsilon + t^2/2)` and stiffness per area :math:`M_c/\text{thickness}`
+integrates to :math:`\pi M_cR\,S`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .cement import HARD_CEMENT, CementMaterial
+from .contact import QUARTZ, GrainMaterial
+
+__all__ = ["ContactStiffness", "contact_system", "lattice_contact_stiffness",
+           "theory_contact_stiffness"]
+
+
+class ContactStiffness(NamedTuple):
+    """Normal and tangential stiffness of a cemented contact, N/m."""
+
+    normal: float
+    tangential: float
+
+
+def _cemented_cells(alpha, resolution, eps):
+    """Centres (in units of R, contact plane at z = 0, axis x = y = 0) of the cells of a lattice
+    of width 1/Omega (cell faces on the axis planes) that lie in the cement body, their
+    lattice indices and the lattice shape."""
+    cw = 1.0 / resolution
+    half_xy = int(np.ceil(alpha / cw)) + 2
+    h_max = eps + 1.0 - np.sqrt(1.0 - alpha**2)           # half the gap at the rim
+    half_z = int(np.ceil(h_max / cw)) + 1
+    shape = (2 * half_xy, 2 * half_xy, 2 * half_z)
+    k, j, i = np.meshgrid(*(np.arange(s) for s in shape[::-1]), indexing="ij")
+    centre = np.stack([(i.ravel() - half_xy + 0.5) * cw, (j.ravel() - half_xy + 0.5) * cw,
+                       (k.ravel() - half_z + 0.5) * cw], axis=-1)
+    rho2 = centre[:, 0] ** 2 + centre[:, 1] ** 2
+    outside = np.all([np.sum((centre - [0.0, 0.0, s * (1.0 + eps)]) ** 2, axis=1) > 1.0
+                      for s in (-1, 1)], axis=0)
+    keep = (rho2 <= alpha**2) & outside & (np.abs(centre[:, 2]) < 1.0 + eps)
+    return centre[keep], np.flatnonzero(keep), shape
+
+
+def _grain_cement(centre, cw, eps):
+    """Bonds (grain, cell, unit normal) of every cell that touches one of the two unit spheres
+    at z = -(1 + eps) and z = 1 + eps: the closest point of its cube to the sphere's centre lies
+    inside the sphere, or the centre of one of its 6 face neighbours does (the rule of
+    :mod:`md.interface`, here by brute force)."""
+    grain, cell, normal = [], [], []
+    for g, zg in enumerate((-(1.0 + eps), 1.0 + eps)):
+        centre_g = np.array([0.0, 0.0, zg])
+        closest = np.clip(centre_g, centre - 0.5 * cw, centre + 0.5 * cw)
+        inside = np.sum((closest - centre_g) ** 2, axis=1) < 1.0
+        for step in np.vstack([np.eye(3), -np.eye(3)]) * cw:
+            inside |= np.sum((centre + step - centre_g) ** 2, axis=1) < 1.0
+        hit = np.flatnonzero(inside)
+        d = centre[hit] - centre_g
+        grain.append(np.full(hit.size, g))
+        cell.append(hit)
+        normal.append(d / np.linalg.norm(d, axis=1)[:, None])
+    grain, cell, normal = np.concatenate(grain), np.concatenate(cell), np.concatenate(normal)
+    order = np.argsort(cell, kind="stable")
+    return grain[order], cell[order], normal[order]
+
+
+def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
+                   material: GrainMaterial = QUARTZ, cement: CementMaterial = HARD_CEMENT,
+                   interface="patch"):
+    r"""The linearised system of one cemented contact (module docstring): two grains (particles
+    0 and 1, no Hertz contact between them) and the cement particles, on a lattice of width
+    :math:`R/\Omega` whose cell faces lie on the contact plane and on two planes through the
+    axis. Parameters as :func:`lattice_contact_stiffness`; returns an
+    :class:`md.AcousticSystem` (no dashpots)."""
+    from .acoustic import AcousticSystem, _lattice_springs, _lattice_table
+    from .interface import interface_stiffness
+    from .space import Box
+
+    alpha, eps, R = float(radius_ratio), float(thickness_ratio), float(radius)
+    if not 0.0 < alpha <= 0.9:
+        raise ValueError(f"radius_ratio must lie in (0, 0.9]; got {radius_ratio}")
+    if not resolution >= 2.0:
+        raise ValueError(f"resolution must be >= 2 cells per radius; got {resolution}")
+    if not (np.isfinite(eps) and eps >= 0):
+        raise ValueError(f"thickness_ratio must be >= 0; got {thickness_ratio}")
+    centre, flat, shape = _cemented_cells(alpha, float(resolution), eps)
+    if centre.shape[0] == 0:
+        raise ValueError(f"no cell of width R/{resolution:g} lies in the cement (a/R = {alpha:g}, "
+                         f"thickness {eps:g}): raise the resolution")
+    cw = R / resolution
+    n_c = centre.shape[0]
+    where = np.full(int(np.prod(shape)), -1, np.int32)
+    where[flat] = np.arange(n_c, dtype=np.int32)
+    table, _ = _lattice_table(flat.astype(np.int64), where, shape, 2)
+    grain, cell, normal = _grain_cement(centre, 1.0 / resolution, eps)
+    kn, kt = interface_stiffness(grain, cell, normal, np.full(2, R), table, 2, cw, material,
+                                 cement, interface)
+    _, _, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, "waves")
+    grains = np.array([[0.0, 0.0, -(1.0 + eps)], [0.0, 0.0, 1.0 + eps]]) * R
+    m_grain = material.density * 4.0 / 3.0 * np.pi * R**3
+    zero = np.zeros(grain.size)
+    side = shape[0] * cw
+    return AcousticSystem(
+        np.concatenate([grains, centre * R]), np.concatenate([[m_grain, m_grain],
+                                                              np.full(n_c, m_c)]), 2,
+        Box(side, side, -2.0 * R, 2.0 * R), grain.astype(np.int32), (cell + 2).astype(np.int32),
+        normal, kn, kt, zero, zero, table, lat_kn, lat_kt, R, (-2.0 * R, 2.0 * R),
+        {"cell_width": cw, "n_cement": n_c, "interface": interface})
+
+
+def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
+                              material: GrainMaterial = QUARTZ,
+                              cement: CementMaterial = HARD_CEMENT,
+                              interface="patch") -> ContactStiffness:
+    """Static normal and tangential stiffness of one cemented contact on the lattice.
+
+    Parameters
+    ----------
+    radius_ratio : float
+        :math:`\alpha = a/R`, in (0, 0.9].
+    resolution : float
+        :math:`\\Omega = R/c_w`, ``>= 2``; the gap at the rim, :math:`R\alpha^2`
+        (touching grains), must hold cell centres, so small :math:`\alpha` needs
+        :math:`\\Omega \\gtrsim 2/\alpha^2`.
+    radius : float
+        :math:`R`, m.
+    thickness_ratio : float
+        :math:`\varepsilon`, half the axial gap over :math:`R`, ``>= 0``.
+    material : GrainMaterial
+    cement : CementMaterial
+    interface : {"patch", "paper"}
+        Grain–cement rule (:mod:`md.interface`).
+
+    Returns
+    -------
+    ContactStiffness
+        N/m.
+
+    Raises
+    ------
+    ValueError
+        For inputs out of range, or when no cell (or no connected path of cells) lies in the
+        cement at this resolution.
+    """
+    import scipy.sparse.linalg as spla
+
+    from .static import _load_path
+
+    system = contact_system(radius_ratio, resolution, radius=radius,
+                            thickness_ratio=thickness_ratio, material=material, cement=cement,
+                            interface=interface)
+    n = system.n_particles
+    flag = np.zeros(n, np.int8)
+    flag[0] = 1
+    if not _load_path(system, flag)[1]:
+        raise ValueError("the cement does not join the two grains at this resolution")
+    flag[1] = 2
+    free = np.flatnonzero(np.repeat(_load_path(system, flag) & (flag == 0), 3))
+    K = system.stiffness_matrix().tocsr()
+    solve = spla.factorized(K[free][:, free].tocsc())
+    out = []
+    for ax in (2, 0):
+        u = np.zeros(3 * n)
+        u[3 + ax] = 1.0
+        u[free] = solve(-(K[free][:, [3 + ax]].toarray().ravel()))
+        out.append(float((K @ u)[3 + ax]))
+    return ContactStiffness(*out)
+
+
+def theory_contact_stiffness(radius_ratio, *, radius=1e-4, thickness_ratio=0.0,
+                             material: GrainMaterial = QUARTZ,
+                             cement: CementMaterial = HARD_CEMENT, limit=None,
+                             panels=64) -> ContactStiffness:
+    """Normal and tangential stiffness of the same contact from the cemented-contact theory.
+
+    Parameters
+    ----------
+    radius_ratio, radius, thickness_ratio, material, cement
+        As :func:`lattice_contact_stiffness`.
+    limit : {None, "rigid_grains", "rigid_cement"}
+        The integral equation (default) or one of its limits (module docstring); the
+        rigid-grain limit needs ``thickness_ratio > 0``.
+    panels : int
+        Collocation panels of the integral equation.
+
+    Returns
+    -------
+    ContactStiffness
+        N/m.
+    """
+    from rockcem.contact_integral import cemented_contact_stiffness
+
+    R, alpha, eps = float(radius), float(radius_ratio), float(thickness_ratio)
+    G, nu = material.shear_modulus, material.poisson_ratio
+    Mc, Gc = cement.p_modulus, cement.shear_modulus
+    if limit == "rigid_cement":
+        a = alpha * R
+        return ContactStiffness(a * material.young_modulus / (1 - nu**2), 4 * G * a / (2 - nu))
+    if limit == "rigid_grains":
+        if not eps > 0:
+            raise ValueError("the rigid-grain limit of a touching contact is infinite: "
+                             "give thickness_ratio > 0")
+        S = np.log1p(alpha**2 / (2 * eps))
+        return ContactStiffness(np.pi * Mc * R * S, np.pi * Gc * R * S)
+    if limit is not None:
+        raise ValueError(f"limit must be None, 'rigid_grains' or 'rigid_cement'; got {limit!r}")
+    lam_n = Mc * (1 - nu) / (np.pi * G)
+    lam_t = Gc / (np.pi * G) * (1 - 0.5 * nu)
+    S = cemented_contact_stiffness(alpha, [lam_n, lam_t], eps, panels=panels)
+    return ContactStiffness(float(np.pi * Mc * R * S[0]), float(np.pi * Gc * R * S[1]))

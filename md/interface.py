@@ -1,0 +1,176 @@
+r"""The grain–cement interface of the acoustic stage: the springs that join a grain to the cement
+cells touching it (García & Medina, Sect. III F, and the patch rule of this project).
+
+Two rules, chosen by ``interface`` in :func:`md.acoustic_system`:
+
+``"paper"`` (the source's prescription, Sect. III F)
+    every cemented cell whose cube meets a grain is joined to it by eq. 4 with the mixed moduli
+    :math:`E^* = [(1-\nu_g^2)/E_g + (1-\nu_c^2)/E_c]^{-1}`,
+    :math:`G^* = [(2-\nu_g)/G_g + (2-\nu_c)/G_c]^{-1}` ([Johnson1985]_ eqs. 4.22 and 7.42) and a
+    contact of diameter :math:`c_w`: :math:`k_n = 2E^*(c_w/2)`, :math:`k_s = 8G^*(c_w/2)`.
+    An interface of area :math:`A` holds :math:`\approx A/c_w^2` such springs in parallel, so
+    its stiffness grows like :math:`E^* A / c_w \propto \Omega`: as the lattice is refined the
+    grains under the cement become rigid, and cemented moduli do not converge in
+    :math:`\Omega`.
+
+``"patch"`` (default; converges in :math:`\Omega`)
+    the cemented cells touching one grain are grouped into *patches* — sets connected through
+    lattice bonds between cells that touch that same grain (:func:`interface_patches`). The
+    grain under a patch of area :math:`A_p` is an elastic half-space loaded by a flat punch of
+    the patch's radius :math:`a_p`: normal stiffness :math:`2a_pE_g/(1-\nu_g^2)` and
+    tangential :math:`8G_ga_p/(2-\nu_g)` (the rigid circular punch on one half-space,
+    [Johnson1985]_ Ch. 3 — the constants :mod:`md.bond_stiffness` uses for a welded bond). The
+    patch stiffness is shared among its cells in proportion to their interface areas (a bed of
+    uniform stiffness per area, whose uniform displacement has exactly the punch stiffness),
+    and each cell's share is in series with the cement between the cell centre and the grain
+    surface, a column of half a cell: :math:`M_cA_i/(c_w/2)` normal, :math:`G_cA_i/(c_w/2)`
+    tangential. The cement itself is resolved by the lattice, so only the grain's moduli enter
+    the punch.
+
+Which cells touch a grain, and the area each stands for. The paper joins a grain to the cells
+whose cube meets its sphere; the patch rule also joins the pore cells one of whose 6 face
+neighbours has its centre inside the grain (``faces`` of
+:func:`md._kernels_acoustic.grain_cement_bonds`): where the sphere passes through the far
+half of a solid cell, the pore cell beside it does not reach the sphere, and without these
+bonds the interface has holes — rings of cement not joined to the grain, which split patches
+and made the single-contact stiffness jump with :math:`\Omega`. For a plane of unit normal
+:math:`\hat n` (grain centre to cell centre), a cell centred at distance :math:`s` on the pore
+side is joined when :math:`0 < s < c_w\max(\|\hat n\|_\infty, \|\hat n\|_1/2)` (face
+neighbour inside, or cube meeting the plane), so these cells number
+:math:`\max(\|\hat n\|_\infty, \|\hat n\|_1/2)/c_w^2` per unit area and each stands for
+:math:`A_i = c_w^2/\max(\|\hat n\|_\infty, \|\hat n\|_1/2)` of the grain surface (tested:
+a fully coated sphere sums to :math:`4\pi R^2`). Patch radius: a spherical cap of area
+:math:`A \le 2\pi R^2` on a grain of radius :math:`R` has the base radius
+:math:`a_p = \sqrt{(A/\pi)(1 - A/4\pi R^2)}`; patches of a hemisphere or more get
+:math:`a_p = R`.
+
+Departure and limits. The bed lumps the half-space: it has the punch's stiffness for a uniform
+displacement of the whole patch but none of the Boussinesq coupling between the cells of a
+patch for non-uniform ones (a patch tilting or bending is too soft or too stiff by a factor of
+order one), and two patches of one grain do not interact until they touch and merge, when the
+bed stiffness per area of both drops (by :math:`\sqrt2` for two equal patches). The
+single-contact check (``tests/md/test_interface.py``, ``benchmarks/md_single_contact.py``)
+measures what this leaves against the cemented-contact integral equation of [Dvorkin1994]_
+(:func:`rockcem.contact_integral.cemented_contact_stiffness`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["INTERFACES", "interface_area", "patch_radius", "interface_patches",
+           "interface_stiffness"]
+
+#: Grain–cement interface rules of :func:`md.acoustic_system`.
+INTERFACES = ("patch", "paper")
+
+
+def interface_area(normals, cell_width) -> np.ndarray:
+    """Grain-surface area a cemented cell joined to a grain stands for (patch rule),
+    :math:`c_w^2/\\max(\\|\\hat n\\|_\\infty, \\|\\hat n\\|_1/2)`.
+
+    Parameters
+    ----------
+    normals : array_like, shape (m, 3)
+        Unit vectors from the grain centre to the cell centre.
+    cell_width : float
+        :math:`c_w`, m.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        m².
+    """
+    n = np.asarray(normals, dtype=float)
+    a = np.abs(n)
+    return float(cell_width) ** 2 / np.maximum(a.max(axis=-1), 0.5 * a.sum(axis=-1))
+
+
+def patch_radius(area, radius) -> np.ndarray:
+    """Base radius of a spherical cap of ``area`` on a sphere of ``radius``,
+    :math:`\\sqrt{(A/\\pi)(1 - A/4\\pi R^2)}`, and ``radius`` from a hemisphere on, m."""
+    A = np.asarray(area, dtype=float)
+    R = np.asarray(radius, dtype=float)
+    cap = np.minimum(A, 2.0 * np.pi * R**2)
+    return np.sqrt(cap / np.pi * (1.0 - cap / (4.0 * np.pi * R**2)))
+
+
+def interface_patches(bond_grain, bond_cell, table, first) -> np.ndarray:
+    """Patch label of every grain–cement bond (see the module docstring).
+
+    Parameters
+    ----------
+    bond_grain, bond_cell : ndarray of int, shape (m,)
+        Grain and cement particle (index among the cement particles) of each bond, sorted by
+        ``bond_cell``.
+    table : ndarray of int32, shape (n_cement, 9)
+        Lattice neighbour table (:class:`md.AcousticSystem`), entries ``first + q`` or −1.
+    first : int
+        Particle index of the first cement particle.
+
+    Returns
+    -------
+    ndarray of int64, shape (m,)
+        Patch numbers ``0 .. n_patches - 1``.
+    """
+    from ._kernels_acoustic import interface_patches as kernel
+
+    cell = np.asarray(bond_cell, dtype=np.int64)
+    if cell.size and np.any(np.diff(cell) < 0):
+        raise ValueError("bond_cell must be sorted (bonds grouped by cement particle)")
+    start = np.searchsorted(cell, np.arange(table.shape[0] + 1)).astype(np.int64)
+    label = np.empty(cell.size, np.int64)
+    kernel(np.asarray(bond_grain, dtype=np.int64), start, table, int(first), label)
+    return label
+
+
+def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first, cell_width,
+                        material, cement, interface="patch"):
+    """Normal and tangential stiffness of the grain–cement bonds.
+
+    Parameters
+    ----------
+    bond_grain, bond_cell : ndarray of int, shape (m,)
+        Grain and cement particle (among the cement particles) of each bond, sorted by cell.
+    bond_normal : ndarray, shape (m, 3)
+        Unit vectors from the grain centre to the cell centre.
+    radii : ndarray, shape (n_grains,)
+        Grain radii, m.
+    table : ndarray of int32, shape (n_cement, 9)
+        Lattice neighbour table; ``first`` the index of the first cement particle.
+    cell_width : float
+        :math:`c_w`, m.
+    material : md.GrainMaterial
+    cement : md.CementMaterial
+    interface : {"patch", "paper"}
+        The rule (module docstring).
+
+    Returns
+    -------
+    kn, kt : ndarray, shape (m,)
+        N/m.
+    """
+    if interface not in INTERFACES:
+        raise ValueError(f"interface must be one of {INTERFACES}; got {interface!r}")
+    nu_g, nu_c = material.poisson_ratio, cement.poisson_ratio
+    m = len(bond_grain)
+    cw = float(cell_width)
+    if interface == "paper":
+        E_star = 1.0 / ((1 - nu_g**2) / material.young_modulus
+                        + (1 - nu_c**2) / cement.young_modulus)
+        G_star = 1.0 / ((2 - nu_g) / material.shear_modulus + (2 - nu_c) / cement.shear_modulus)
+        return np.full(m, 2.0 * E_star * 0.5 * cw), np.full(m, 8.0 * G_star * 0.5 * cw)
+    area = interface_area(bond_normal, cw)
+    label = interface_patches(bond_grain, bond_cell, table, first)
+    n_patches = int(label.max()) + 1 if m else 0
+    patch_area = np.bincount(label, area, n_patches)
+    patch_grain = np.zeros(n_patches, np.int64)
+    patch_grain[label] = bond_grain
+    a_p = patch_radius(patch_area, np.asarray(radii, dtype=float)[patch_grain])
+    share = area / patch_area[label]
+    k_grain_n = 2.0 * a_p[label] * material.young_modulus / (1.0 - nu_g**2) * share
+    k_grain_t = 8.0 * material.shear_modulus * a_p[label] / (2.0 - nu_g) * share
+    k_cement_n = cement.p_modulus * area / (0.5 * cw)
+    k_cement_t = cement.shear_modulus * area / (0.5 * cw)
+    return (1.0 / (1.0 / k_grain_n + 1.0 / k_cement_n),
+            1.0 / (1.0 / k_grain_t + 1.0 / k_cement_t))

@@ -1,0 +1,156 @@
+"""Static moduli of the linearised acoustic stage: the long-wave limit of the pulse test by a
+sparse solve on the same operator (García & Medina, Sect. III G; the cross-check of
+:func:`md.pulse_test`).
+
+SI units. The sample is the :class:`md.AcousticSystem` cut into slabs along z; the bottom slab
+is displaced, the top slab held, and the free particles on the load path relax.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .acoustic import AcousticSystem
+
+__all__ = ["StaticModulus", "static_modulus"]
+
+_AXIS = {"p": 2, "s": 0}
+
+
+def _wave_axis(wave) -> int:
+    if wave not in _AXIS:
+        raise ValueError(f"wave must be 'p' or 's'; got {wave!r}")
+    return _AXIS[wave]
+
+
+@dataclass(frozen=True)
+class StaticModulus:
+    """Result of :func:`static_modulus`.
+
+    Attributes
+    ----------
+    modulus : float
+        P-wave (uniaxial-strain) modulus or shear modulus, Pa.
+    density : float
+        Bulk density of the sample (total mass over box area times height), kg/m³.
+    velocity : float
+        :math:`\\sqrt{M/\\rho}`, m/s.
+    strain, stress : float
+        Strain of the interior (:math:`\\partial u_z/\\partial z`, negative in compression, or
+        :math:`\\partial u_x/\\partial z`) and the transmitted stress, Pa.
+    iterations : int
+        Conjugate-gradient iterations.
+    """
+
+    modulus: float
+    density: float
+    velocity: float
+    strain: float
+    stress: float
+    iterations: int
+
+
+def _prescribed(system: AcousticSystem):
+    slab, n_slabs = system.slabs()
+    if n_slabs < 4:
+        raise ValueError(f"the sample holds {n_slabs} slab(s) of {system.slab_thickness:.3g} m "
+                         "along z; the pulse test needs at least 4 (source, two detectors, "
+                         "fixed end): use a taller sample or thinner slabs")
+    flag = np.zeros(system.n_particles, np.int8)
+    flag[slab == n_slabs - 1] = 1
+    flag[slab == 0] = 2
+    return slab, n_slabs, flag
+
+
+def _load_path(system: AcousticSystem, flag):
+    """Particles bonded (directly or through others) to the driven or the fixed slab."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    n = system.n_particles
+    li, lj, _ = system._lattice_list()
+    i = np.concatenate([system.bond_i, li])
+    j = np.concatenate([system.bond_j, lj])
+    graph = sp.coo_matrix((np.ones(i.size, np.int8), (i, j)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    anchored = np.unique(label[flag != 0])
+    return np.isin(label, anchored)
+
+
+def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
+                   maxiter=None) -> StaticModulus:
+    """P-wave (or shear) modulus of the linearised sample by a sparse solve.
+
+    The bottom slab is displaced by a small :math:`u_z` (``wave="p"``, uniaxial strain) or
+    :math:`u_x` (``wave="s"``, simple shear), all of its particles alike, the top slab is held
+    fixed, the periodic box keeps the lateral strain zero; :math:`K_{ff} u_f = -K_{fp} u_p` is
+    solved by Jacobi-preconditioned conjugate gradients on the free particles bonded, directly or
+    through others, to an end slab (rattlers and floating cement clusters drop out). The stress is
+    the reaction on the fixed slab over the box area (the same through every horizontal section);
+    the strain is the slope of a least-squares line through the centres of mass of the interior
+    slabs (their load-path particles) in :math:`(z, u_z)` — the part of the sample the pulse test's
+    detectors see.
+    """
+    import scipy.sparse.linalg as spla
+
+    slab, n_slabs, flag = _prescribed(system)
+    n = system.n_particles
+    amp = 1e-6 * system.slab_thickness
+    u_p = np.zeros((n, 3))
+    ax = _wave_axis(wave)
+    u_p[flag == 2, ax] = amp
+    diag = system.stiffness_diagonal()      # Jacobi preconditioner; zero: no bonds
+    connected = _load_path(system, flag)
+    free = ((flag == 0) & connected)[:, None] & (diag > 0)
+    free_idx = np.flatnonzero(free.ravel())
+    if free_idx.size == 0:
+        raise ValueError("no free particle between the end slabs is bonded to them")
+    b = system.forces(u_p).ravel()[free_idx]
+
+    def matvec(y):
+        u = np.zeros(3 * n)
+        u[free_idx] = y
+        return -system.forces(u).ravel()[free_idx]
+
+    op = spla.LinearOperator((free_idx.size,) * 2, matvec=matvec, dtype=float)
+    pre = spla.LinearOperator((free_idx.size,) * 2, matvec=lambda y: y / diag.ravel()[free_idx],
+                              dtype=float)
+    count = [0]
+
+    def callback(_):
+        count[0] += 1
+
+    y, info = spla.cg(op, b, rtol=rtol, atol=0.0, M=pre,
+                      maxiter=maxiter or 20 * free_idx.size, callback=callback)
+    if info != 0:
+        raise RuntimeError(f"static solve did not converge in {count[0]} CG iterations")
+    u = u_p.ravel().copy()
+    u[free_idx] = y
+    u = u.reshape(n, 3)
+    f = system.forces(u)
+    area = system.box.lx * system.box.ly
+    stress = float(np.sum(f[flag == 1, ax])) / area       # push on the fixed top slab
+    # Strain of the interior: slab centres of mass (load-path particles) between the end slabs.
+    keep = connected & (flag == 0)
+    m = system.masses * keep
+    inner = np.arange(1, n_slabs - 1)
+    mass = np.bincount(slab, weights=m, minlength=n_slabs)[inner]
+    zc = np.bincount(slab, weights=m * system.positions[:, 2], minlength=n_slabs)[inner]
+    uc = np.bincount(slab, weights=m * u[:, ax], minlength=n_slabs)[inner]
+    ok = mass > 0
+    if ok.sum() < 2:
+        raise ValueError("fewer than two interior slabs hold particles on the load path")
+    slope = float(np.polyfit(zc[ok] / mass[ok], uc[ok] / mass[ok], 1)[0])
+    z0, z1 = system.extent
+    density = float(system.masses.sum()) / (area * (z1 - z0))
+    modulus = stress / -slope
+    if not modulus > 0:
+        raise RuntimeError(f"the sample has no {wave.upper()}-wave stiffness between the end slabs "
+                           "(no load-bearing path)")
+    return StaticModulus(modulus, density, math.sqrt(modulus / density), slope, stress,
+                         count[0])
