@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcem._validation import as_array, check_positive, check_range
+from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import GAS_CONSTANT_CAL
 
 from ._integrals import cumulative_arrhenius

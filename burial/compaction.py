@@ -7,7 +7,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rockcem._validation import as_array, check_positive, check_range
+from rockcem.validation import as_array, check_positive, check_range
 
 __all__ = ["athy_porosity", "intergranular_volume", "sandstone_porosity", "SandstonePorosity"]
 

@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rockcem._validation import as_array, check_positive, check_range
+from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import STANDARD_GRAVITY
 
 __all__ = ["BurialPath", "linear_path", "path_from_nodes", "pressures", "Pressures"]

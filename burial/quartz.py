@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcem._validation import as_array, check_positive, check_range
+from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import SECONDS_PER_MYR
 
 from ._integrals import cumulative_power10

@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import (as_array, broadcast, check_fractions, check_positive, max_phases,
+from .validation import (as_array, broadcast, check_fractions, check_positive, max_phases,
                           min_phases, sum_phases)
 from .elastic import Moduli
 

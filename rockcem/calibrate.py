@@ -27,7 +27,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ._toml import toml_value
-from ._validation import as_array, broadcast, check_positive, check_range
+from .validation import as_array, broadcast, check_positive, check_range
 from .elastic import velocities
 from .granular import contact_cement
 from .materials import Mineral

@@ -40,7 +40,7 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.special import ellipkm1
 
-from ._validation import as_array, broadcast, check_positive
+from .validation import as_array, broadcast, check_positive
 
 __all__ = ["cemented_contact_stiffness"]
 

@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_positive
+from .validation import as_array, broadcast, check_positive
 
 __all__ = ["Moduli", "Velocities", "poisson_ratio", "velocities", "p_wave_modulus"]
 

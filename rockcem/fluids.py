@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
                           sum_phases)
 
 __all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]

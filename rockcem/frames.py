@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
                           sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli

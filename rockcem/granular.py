@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_array, broadcast, check_positive, check_range, stack_phases
+from .validation import as_array, broadcast, check_positive, check_range, stack_phases
 from .bounds import _harmonic
 from .constants import GPA_PER_MPA
 from .elastic import Moduli

@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import (as_array, broadcast, check_fractions, check_positive, check_range,
+from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
                           stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities

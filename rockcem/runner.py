@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import itertools
 import json
 from functools import cached_property
 
@@ -17,7 +18,7 @@ import numpy as np
 
 from .references import REFERENCES
 
-__all__ = ["evaluate", "run"]
+__all__ = ["evaluate", "run", "sweep_members"]
 
 _MODEL_LABELS_LONG = {
     "hs_gassmann": "Model 1: Hashin-Shtrikman + Krief + Gassmann",
@@ -288,6 +289,16 @@ def _validity_warnings(scene, pipe, *, computed_models):
                              pore_filled=filled)
 
 
+def sweep_members(scene):
+    """``(coords, member)`` for every combination of the swept values of a scene: ``coords``
+    maps each swept key's name to its value, ``member`` is the scene with those values and no
+    sweep."""
+    keys = list(scene.sweep)
+    for combo in itertools.product(*(scene.sweep[k] for k in keys)):
+        coords = {k.rpartition(".")[2]: v for k, v in zip(keys, combo)}
+        yield coords, (scene._with(dict(zip(keys, combo)), keep_sweep=False) if keys else scene)
+
+
 def _run_chunk(chunk):
     """Evaluate a list of (index, coords, scene) sweep members (one task on a worker)."""
     return [(index, evaluate(member)) for index, _coords, member in chunk]
@@ -297,14 +308,12 @@ def run(scene, *, scheduler=None, progress=False):
     """Run a scene and its sweep (serially, or on dask.distributed in chunks of members)."""
     import xarray as xr
 
-    from .scene import _sweep_members
-
     if not scene.sweep:
         return evaluate(scene)
     dims = [k.rpartition(".")[2] for k in scene.sweep]
     values = [scene.sweep[k] for k in scene.sweep]
     members = [(index, coords, member) for index, (coords, member)
-               in zip(np.ndindex(*[len(v) for v in values]), _sweep_members(scene))]
+               in zip(np.ndindex(*[len(v) for v in values]), sweep_members(scene))]
     if scheduler is None:
         if progress:
             # tqdm.auto only when asked: in a notebook without ipywidgets its import warns.

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import copy
 import difflib
-import itertools
 import json
 import tomllib
 from dataclasses import dataclass, field
@@ -465,12 +464,4 @@ def write_dataset(ds, path) -> Path:
     from ._atomic import atomic_write
 
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"))
-
-
-def _sweep_members(scene: Scene):
-    """(coords, scene) for every combination of swept values."""
-    keys = list(scene.sweep)
-    for combo in itertools.product(*(scene.sweep[k] for k in keys)):
-        coords = {k.rpartition(".")[2]: v for k, v in zip(keys, combo)}
-        yield coords, (scene._with(dict(zip(keys, combo)), keep_sweep=False) if keys else scene)
 

@@ -1,14 +1,17 @@
-"""Input checking shared by the public functions.
+"""Input checking shared by every package (the shared base: imports numpy only).
 
-One rule for the whole package: bad input raises ``ValueError`` naming the argument and the valid
-range; nothing returns NaN or a complex number silently.
+One rule for the whole project: bad input raises ``ValueError`` naming the argument and the
+valid range; nothing returns NaN or a complex number silently. With :mod:`rockcem.constants`
+and :mod:`rockcem.variables` this is the floor that ``burial``, the ``rockcem`` models and ``md``
+build on; it imports none of them, nor the scene layer.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_array", "check_range", "check_positive", "check_fractions", "broadcast"]
+__all__ = ["as_array", "check_range", "check_positive", "check_fractions", "broadcast",
+           "stack_phases", "sum_phases", "max_phases", "min_phases"]
 
 
 def as_array(name: str, value) -> np.ndarray:
