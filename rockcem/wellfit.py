@@ -3,7 +3,9 @@
 :func:`fit_scene` runs the scene, reduced to what the fitted logs need (the outputs ``vp``,
 ``vs``, ``density``, ``porosity`` that the well has, and only the one model that ``vp``/``vs``
 come from), at trial values of the free keys, takes the model at the log's depths (linear
-between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. The result gives
+between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. When only model
+parameters are free, the rock state (burial path, kinetics, compaction, density) is computed
+once and shared by every trial. The result gives
 values, one-sigma uncertainties, their correlation, the misfit before and after, parameters on a
 bound, and parameters the logs do not determine; :meth:`SceneFit.write_calibration` writes a
 scene calibration file (``model = "scene"``) that any scene applies with its top-level key
@@ -225,6 +227,16 @@ def _reduced(scene, well, variables, model):
     return scene_from_dict(raw, base_dir=scene.base_dir), tuple(variables), model
 
 
+def _rock_state(scene):
+    """The cached rock state of a scene's pipeline (everything but the models)."""
+    from .runner import _Pipeline
+
+    pipe = _Pipeline(scene)
+    for name in ("path", "pressures", "materials", "porosity", "solid_fractions", "density"):
+        getattr(pipe, name)                          # cached_property: computed and kept
+    return {k: v for k, v in pipe.__dict__.items() if k not in ("scene", "sec", "lith")}
+
+
 def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, errors=None):
     """Fit numeric scene keys to well logs by least squares.
 
@@ -253,8 +265,8 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     SceneFit
     """
     from .calibrate import fit_parameters
-    from .runner import evaluate
-    from .scene import Scene, load_scene
+    from .runner import _Pipeline
+    from .scene import MODEL_OUTPUTS, Scene, load_scene
     from .wells import read_well
 
     if not isinstance(scene, Scene):
@@ -271,9 +283,13 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
         if key.rpartition(".")[0] not in reduced.sections:
             raise ValueError(f"free parameter {key!r} belongs to a model the fitted logs "
                              f"({', '.join(variables)}) do not use")
-    base = evaluate(reduced)
-    lo = max(float(base.depth.min()), float(well.depth.min()))
-    hi = min(float(base.depth.max()), float(well.depth.max()))
+    # With model parameters only free, the rock state (burial path, kinetics, compaction,
+    # density) is the same for every trial: computed once and handed to each trial's pipeline.
+    rock = _rock_state(reduced) if all(k.startswith("models.") for k in params) else {}
+    start = _Pipeline(reduced)
+    scene_depth = start.now(start.path.depth)
+    lo = max(float(scene_depth.min()), float(well.depth.min()))
+    hi = min(float(scene_depth.max()), float(well.depth.max()))
     if depth is not None:
         top, bottom = (float(d) for d in depth)
         if not top < bottom:
@@ -291,12 +307,14 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     observed = {v: well[v].values[masks[v]] for v in variables}
 
     def predict(**values):
-        member = reduced.replace(**values)
-        ds = evaluate(member)
+        pipe = _Pipeline(reduced.replace(**values))
+        pipe.__dict__.update(rock)
+        depth = pipe.now(pipe.path.depth)
         out = {}
         for v in variables:
-            arr = ds[v].sel(model=model) if "model" in ds[v].dims else ds[v]
-            out[v] = np.interp(z[masks[v]], ds.depth.values, arr.values)
+            arr = getattr(pipe.model(model), v) if v in MODEL_OUTPUTS else \
+                pipe.state_variable(v)
+            out[v] = np.interp(z[masks[v]], depth, arr)
         return out
 
     sigma = None if errors is None else {v: errors[v] for v in variables if v in errors}

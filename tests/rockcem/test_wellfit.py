@@ -51,6 +51,26 @@ def test_fit_recovers_known_parameters_within_their_uncertainties(scene, well):
     assert set(fit.scene.outputs) == {"vp", "vs", "density"}    # only what the fit needs
 
 
+def test_model_parameters_only_run_the_kinetics_once(scene, well, monkeypatch):
+    import burial
+
+    calls = []
+    original = burial.quartz_cement
+    monkeypatch.setattr(burial, "quartz_cement", lambda *a, **k: calls.append(1) or
+                        original(*a, **k))
+    fast = fit_scene(scene, well, list(TRUE), errors=SIGMA)
+    assert len(calls) == 1          # the rock state, shared by every trial
+    # ... and the predictions are those of the full scene at the fitted values.
+    full = evaluate(fast.fitted)
+    for v in ("vp", "density"):
+        model = full[v].sel(model="patchy_cement") if "model" in full[v].dims else full[v]
+        np.testing.assert_allclose(fast.result.predicted[v],
+                                   np.interp(well.depth.values, full.depth.values, model),
+                                   rtol=1e-14)
+    slow = fit_scene(scene, well, [*TRUE, "sandstone.beta"], errors=SIGMA)
+    assert len(calls) > 10 and slow.result.success
+
+
 def test_degenerate_parameters_are_reported_unidentifiable(scene, well):
     # The Walderhaug rate depends on quartz fraction and grain size only through f/D (eq. B.5).
     fit = fit_scene(scene, well, ["sandstone.grain_size", "sandstone.quartz_fraction"],
