@@ -10,6 +10,15 @@ The schema, with every default and unit, is :data:`SCHEMA`; ``rockcem scenes`` l
 scenes (``datasets/scenes/``). See ``datasets/scenes/carcione2022_sandstone.toml`` for a full
 example.
 
+Burial paths: ``[path] kind = "linear"`` (the linear basin model, the default), ``"horizons"``
+(one history per horizon from a table, e.g. a basin-model export; the depth axis is the
+horizons' present-day depths) or ``"nodes"`` (one history every depth follows); tables as a CSV
+file (``table``) or inline arrays, see :mod:`rockcem.histories`.
+
+Scene calibrations: a top-level ``calibration = "<file>"`` names a calibration file with
+``model = "scene"`` (written by ``rockcem fit``, :mod:`rockcem.wellfit`) whose ``[parameters]``
+set ``"section.key"`` values (:func:`rockcem.calibrate.apply_scene_calibration`).
+
 Calibrated parameters: ``[models.patchy_cement] calibration = "<file>"`` names a calibration file
 (TOML, format ``rockcem-calibration/1``, written by :func:`md.calibrate.write_calibration` or
 :func:`rockcem.calibrate.write_calibration`; see ``datasets/calibrations/README.md``) — a path
