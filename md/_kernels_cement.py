@@ -12,7 +12,7 @@ __all__ = ["classify_cells", "face_neighbours", "float32_levels", "order_keys", 
 
 
 @njit(cache=True)
-def classify_cells(x, r, lx, ly, z0, cw, nx, ny, nz, reach, touches, solid, dist):
+def classify_cells(x, r, lx, ly, z0, cw, nx, ny, nz, reach, touches, solid, dist, dist2):
     """Grain-centric pass over the cells near each grain.
 
     Cells are cubes of width ``cw``; cell (i, j, k) spans ``[i cw, (i+1) cw)`` in x (periodic,
@@ -23,7 +23,8 @@ def classify_cells(x, r, lx, ly, z0, cw, nx, ny, nz, reach, touches, solid, dist
     * ``touches[c] += 1`` if the cube intersects the sphere (closest point of the cube to the
       centre inside the sphere);
     * ``dist[c] = min(dist[c], |centre - x| - r)``, the distance from the cell centre to the
-      nearest grain surface (capped at ``reach`` by the caller's initial value).
+      nearest grain surface, and ``dist2[c]`` the distance to the second-nearest grain surface
+      (both capped at ``reach`` by the caller's initial values).
     """
     h = 0.5 * cw
     for g in range(x.shape[0]):
@@ -49,7 +50,10 @@ def classify_cells(x, r, lx, ly, z0, cw, nx, ny, nz, reach, touches, solid, dist
                     c = i + nx * (j + ny * k)
                     d = np.sqrt(dx * dx + dy * dy + dz * dz) - rg
                     if d < dist[c]:
+                        dist2[c] = dist[c]
                         dist[c] = d
+                    elif d < dist2[c]:
+                        dist2[c] = d
                     if d < 0.0:
                         solid[c] = 1
                     # Closest point of the cube to the grain centre.

@@ -39,10 +39,25 @@ def brute_force(pack, lat):
     return solid, touches, dist
 
 
+def second_distance(pack, lat, reach):
+    """Distance to the second-nearest grain surface, every periodic image a grain of its own,
+    capped at ``reach``."""
+    nx, ny, nz = lat.shape
+    cw = lat.cell_width
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    c = np.stack([(i.ravel() + 0.5) * cw, (j.ravel() + 0.5) * cw,
+                  lat.z0 + (k.ravel() + 0.5) * cw], -1)
+    d = [np.linalg.norm(c - xg - [sx * pack.box.lx, sy * pack.box.ly, 0.0], axis=1) - rg
+         for xg, rg in zip(pack.positions, pack.radii) for sx in (-1, 0, 1) for sy in (-1, 0, 1)]
+    return np.minimum(np.sort(np.array(d), axis=0)[1], reach)
+
+
 def test_lattice_matches_brute_force(rng):
     pack = make_pack(rng)
     lat = cement_lattice(pack, resolution=3.0, reach=1e-3)
     solid, touches, dist = brute_force(pack, lat)
+    np.testing.assert_allclose(lat.distance2, second_distance(pack, lat, 1e-3)[~solid],
+                               rtol=1e-6)
     np.testing.assert_array_equal(lat.index, np.flatnonzero(~solid))
     np.testing.assert_array_equal(lat.kind, np.minimum(touches[~solid], 2))
     np.testing.assert_allclose(lat.distance, np.minimum(dist[~solid], 1e-3), rtol=1e-6)
@@ -82,7 +97,7 @@ def lattice():
     return cement_lattice(make_pack(rng, n=14), resolution=3.0)
 
 
-@pytest.mark.parametrize("scheme", ["contact", "coating", "pore_body"])
+@pytest.mark.parametrize("scheme", ["contact", "coating", "pore_body", "pendular"])
 def test_growth_reaches_the_saturation(lattice, scheme):
     for s in (0.0, 0.05, 0.2, 1.0):
         cem = grow_cement(lattice, s, scheme, seed=3)
@@ -94,6 +109,25 @@ def test_coating_fills_by_distance_and_nests(lattice):
     b = grow_cement(lattice, 0.3, "coating")
     assert np.all(b[a])                                    # nested
     assert lattice.distance[a].max() <= lattice.distance[~b].min()
+
+
+def test_pendular_fills_by_second_distance_and_nests(lattice):
+    """Pendular cement: the cells nearest to a second grain first (ties by index), nested."""
+    a = grow_cement(lattice, 0.05, "pendular")
+    b = grow_cement(lattice, 0.2, "pendular")
+    assert np.all(b[a])
+    assert lattice.distance2[a].max() <= lattice.distance2[~b].min()
+    n = round(0.2 * lattice.index.size)
+    order = np.lexsort((np.arange(lattice.index.size), lattice.distance2))[:n]
+    assert np.array_equal(np.flatnonzero(b), np.sort(order))
+    # it sits between grains: its cells are nearer a second grain than the coating's
+    coat = grow_cement(lattice, 0.2, "coating")
+    assert np.median(lattice.distance2[b]) < np.median(lattice.distance2[coat])
+
+
+def test_pendular_needs_the_second_distance():
+    with pytest.raises(ValueError, match="distance2"):
+        grow_cement(synthetic_lattice(4), 0.1, "pendular")
 
 
 def test_contact_cement_starts_at_the_contacts(lattice):
