@@ -111,6 +111,15 @@ def well_template(ds, well, *, fig=None, **template):
     return fig
 
 
+def _unit(dotted):
+    """`` unit`` of a scene key from the scene schema (empty for counts and fractions)."""
+    from ..scene import SCHEMA
+
+    section, _, key = dotted.rpartition(".")
+    unit = SCHEMA.get(section, {}).get(key, (None, None, ""))[2]
+    return f" {unit}" if unit not in ("", "1") else ""
+
+
 def fit_figure(fit, well, *, fig=None):
     """Before/after figure of a scene fitted to a well (:func:`rockcem.wellfit.fit_scene`).
 
@@ -151,6 +160,6 @@ def fit_figure(fit, well, *, fig=None):
         axes[0].legend(loc="lower left", fontsize=7.0, frameon=False)
         r = fit.result
         fig.suptitle("; ".join(f"{k.rpartition('.')[2]} = {r.values[k]:.4g} ± "
-                               f"{r.stderr[k]:.2g}" for k in r.values)
+                               f"{r.stderr[k]:.2g}{_unit(k)}" for k in r.values)
                      + (f"  ({fit.model})" if fit.model else ""), fontsize=9.0)
     return fig
