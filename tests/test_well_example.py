@@ -48,6 +48,10 @@ def test_shipped_history_compacts_at_the_deepest_burial():
 def test_cli_compare_fit_and_plot(las, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main(["run", "synthetic_basin_horizons", "-q", "-o", "s.nc"]) == 0
+    import xarray as xr
+
+    back = xr.load_dataset(tmp_path / "s.nc", engine="netcdf4")
+    assert back.horizon.values[-1] == "H80" and "horizon" in back.horizon.attrs["long_name"]
     assert main(["compare", "s.nc", "--well", str(las), "--intervals", "300", "1500",
                  "3200"]) == 0
     out = capsys.readouterr().out
