@@ -151,6 +151,7 @@ class SceneFit:
 
 def _free(scene, free):
     """``{key: (initial, lower, upper)}`` from keys, ``{key: (lo, hi)}`` or triples."""
+    from .histories import KIND_KEYS
     from .scene import SCHEMA
 
     items = free.items() if isinstance(free, dict) else [(k, None) for k in free]
@@ -163,6 +164,10 @@ def _free(scene, free):
                              "'models.patchy_cement.delta')")
         if SCHEMA[section][name][1] != "number":
             raise ValueError(f"free parameter {key!r} is not numeric")
+        kind = scene.sections["path"]["kind"]
+        if section == "path" and name not in KIND_KEYS[kind]:
+            raise ValueError(f"free parameter {key!r} does not apply to a path of kind "
+                             f"{kind!r}")
         for label, cal in scene.calibrations.items():
             param = key if label == "scene" else name
             if (label == "scene" or section == f"models.{label}") \
