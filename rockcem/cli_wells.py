@@ -38,12 +38,12 @@ def _compare(args) -> int:
 
     from .wells import well_misfit
 
+    well = _well(args)                        # a bad log fails before the scene runs
     ds = _scene_dataset(args.scene)
     sweeps = [d for d in ds.dims if d not in ("depth", "model")]
     if sweeps:
         raise ValueError(f"{args.scene} has sweep dimensions {', '.join(sweeps)}; compare one "
                          "member (rockcem plot --select, or a scene without [sweep])")
-    well = _well(args)
     table = well_misfit(ds, well, intervals=args.intervals)
     name = well.attrs.get("well") or Path(args.well).name
     print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name}: rms and mean of "
@@ -76,6 +76,7 @@ def _fit(args) -> int:
     from .wellfit import fit_scene
 
     scene = load_scene(args.scene)
+    well = _well(args)
     free = _free_keys(args.free)                  # bounds None: rockcem.wellfit's defaults
     errors = None
     if args.error:
@@ -86,13 +87,13 @@ def _fit(args) -> int:
                 errors[name.strip()] = float(value)
             except ValueError:
                 raise ValueError(f"--error {item}: expected LOG=SIGMA, e.g. vp=0.05") from None
-    fit = fit_scene(scene, _well(args), free, model=args.model, variables=args.log,
+    fit = fit_scene(scene, well, free, model=args.model, variables=args.log,
                     depth=args.depth, errors=errors)
     if not args.quiet:
         print(fit.summary())
     stem = scene_path(args.scene).stem
     cal = fit.write_calibration(args.output or f"{stem}_well_fit.toml")
-    png = save_figure(fit_figure(fit, _well(args)), args.figure or f"{stem}_well_fit.png")
+    png = save_figure(fit_figure(fit, well), args.figure or f"{stem}_well_fit.png")
     if not args.quiet:
         keys = ", ".join(fit.result.values)
         print(f"wrote {cal} and {png}\nto use it: add  calibration = \"{cal}\"  at the top of "

@@ -20,7 +20,9 @@ Null values (the LAS ``NULL``, default ``-999.25``) and empty CSV cells become N
 
 from __future__ import annotations
 
+import logging
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -171,23 +173,30 @@ def read_las(path, *, depth_offset=0.0):
 
     path = Path(path)
     source = path.name
+    if not path.is_file():
+        raise ValueError(f"well file {str(path)!r} not found")
+    text = path.read_text(errors="replace")
+    if re.search(r"^\s*WRAP\s*\.\s*YES\b", text, flags=re.IGNORECASE | re.MULTILINE):
+        raise ValueError(f"{source}: wrapped LAS (WRAP. YES) is not read; write it unwrapped "
+                         "(lasio: las.write(file, wrap=False))")
+    log = logging.getLogger("lasio")
+    level = log.level
+    log.setLevel(logging.CRITICAL)          # lasio logs what it skips; our errors say it once
     try:
-        las = lasio.read(str(path), ignore_header_errors=False)
-    except FileNotFoundError:
-        raise ValueError(f"well file {str(path)!r} not found") from None
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            las = lasio.read(str(path), ignore_header_errors=False)
     except Exception as exc:                # lasio raises KeyError, LASHeaderError, ...
         raise ValueError(f"{source} is not a readable LAS file: {exc}") from None
+    finally:
+        log.setLevel(level)
     version = las.version.get("VERS")
     if version is None or not str(version.value).strip().startswith("2"):
         raise ValueError(f"{source}: LAS version {getattr(version, 'value', None)!r}; only LAS "
                          "2.0 is read")
-    wrap = las.version.get("WRAP")
-    if wrap is not None and str(wrap.value).strip().upper() == "YES":
-        raise ValueError(f"{source}: wrapped LAS (WRAP. YES) is not read; write it unwrapped "
-                         "(lasio: las.write(file, wrap=False))")
     if not las.curves:
         raise ValueError(f"{source}: no curves")
-    _ascii_rows(path.read_text(errors="replace"), len(las.curves), source)
+    _ascii_rows(text, len(las.curves), source)
     null = las.well.get("NULL")
     null = float(null.value) if null is not None and str(null.value).strip() else -999.25
     well = las.well.get("WELL")

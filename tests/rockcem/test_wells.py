@@ -101,6 +101,19 @@ def test_wrapped_lines_are_refused(tmp_path):
         read_well(g)
 
 
+def test_cli_bad_well_one_line(tmp_path, capsys):
+    from rockcem.cli import main
+
+    g = _las(tmp_path / "wrap.las", [("DEPT", "M", [1.0, 2.0]), ("DT", "US/M", [400.0, 410.0])],
+             wrap=True)
+    junk = tmp_path / "junk.las"
+    junk.write_text("~V\nhello\n")
+    for f in (g, junk):
+        assert main(["compare", "carcione2022_shale", "--well", str(f)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("rockcem: error:"), err
+
+
 def test_unknown_format_and_missing_file(tmp_path):
     with pytest.raises(ValueError, match="unknown format"):
         read_well(tmp_path / "log.dlis")
