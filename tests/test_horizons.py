@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from burial import intergranular_volume, quartz_cement
+from burial import intergranular_volume, quartz_cement, smectite_fraction
 from burial.horizons import horizon_paths, shifted_path
 from rockcem.constants import SECONDS_PER_MYR, STANDARD_GRAVITY
 from rockcem.scene import load_scene, run_scene, scene_from_dict
@@ -108,6 +108,9 @@ def test_horizons_are_padded_with_zero_length_pieces():
     single = horizon_paths(["B"] * 2, [20, 0], [0, 400], [15, 27])
     np.testing.assert_array_equal(quartz_cement(h.path, 0.36, 0.3, 0.65)[0, -1],
                                   quartz_cement(single.path, 0.36, 0.3, 0.65)[0, -1])
+    np.testing.assert_array_equal(smectite_fraction(h.path, 0.99)[0, -1],
+                                  smectite_fraction(single.path, 0.99)[0, -1])
+    np.testing.assert_array_equal(h.path.heating_rate[0, :2], [0.0, 0.0])
 
 
 @pytest.mark.parametrize("columns, message", [
