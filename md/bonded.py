@@ -38,6 +38,7 @@ import numpy as np
 
 from .bond_stiffness import BondStiffness, bond_cement_volume, bond_stiffness
 from .contact import GrainMaterial
+from .observe import segment_fraction as _segment_fraction
 from .state import Pack
 
 __all__ = ["BondStiffness", "bond_stiffness", "bond_cement_volume", "BondedSystem",
@@ -320,20 +321,6 @@ def _core_fraction(system: BondedSystem):
     sample at a height (a flat link lying on a core plane counts one half)."""
     return _segment_fraction(system.positions[system.pair_i, 2], system.branch[:, 2],
                              *system.core)
-
-
-def _segment_fraction(za, dz, z_lo, z_hi):
-    """Fraction of the segments from heights ``za`` to ``za + dz`` inside ``[z_lo, z_hi]``;
-    a horizontal segment counts 1 inside, 0 outside, one half on a bounding plane."""
-    zb = za + dz
-    lo, hi = np.minimum(za, zb), np.maximum(za, zb)
-    span = hi - lo
-    inside = np.clip(np.minimum(hi, z_hi) - np.maximum(lo, z_lo), 0.0, None)
-    tol = 1e-9 * max(float(np.abs(dz).max()), abs(z_hi - z_lo))
-    flat = span <= tol
-    on_plane = (np.abs(lo - z_lo) <= tol) | (np.abs(lo - z_hi) <= tol)
-    flat_weight = np.where(on_plane, 0.5, ((lo > z_lo) & (lo < z_hi)).astype(float))
-    return np.where(flat, flat_weight, inside / np.where(flat, 1.0, span))
 
 
 class _StaticSolver:

@@ -205,29 +205,27 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
     import xarray as xr
 
     from .cement import HARD_CEMENT, SOFT_CEMENT
-    from .observe import contact_stress
-    from .protocols import coordination_number, porosity, prepare_pack
+    from .observe import coordination_number, pack_stress, porosity
+    from .protocols import prepare_pack
 
     p = scene["md"]
     folder = Path(workdir or p["workdir"] or Path(scene["output"]).with_suffix("").name + "_work")
     folder.mkdir(parents=True, exist_ok=True)
-    rmax = p["radius_range"][1]
     settle_opts = {"size": tuple(p["size"]), "radius_range": tuple(p["radius_range"]),
                    "seed": p["seed"], "fall_stiffness_factor": p["fall_stiffness_factor"]}
     cements = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}
-    per_sample, phi0, coord, stress = [], [], [], []
+    per_sample, phi0, coord, stress, stress_mean = [], [], [], [], []
     for sample in p["samples"]:
         compact_opts = ({"target_stress": p["compaction_stress"] * 1e6}
                         if sample == "compacted" else None)
         pack = prepare_pack(folder / "pack", settle_options=settle_opts,
                             compact_options=compact_opts, progress=progress)
-        phi = porosity(pack)
-        z = pack.positions[:, 2]
-        sig = contact_stress(pack.positions, pack.radii, pack.pairs, pack.box, pack.material,
-                             z_range=(float(z.min()) + 2 * rmax, float(z.max()) - 2 * rmax))
+        phi = porosity(pack)                 # the core window between the end slabs
+        sig = pack_stress(pack)              # same window, normal and tangential forces
         phi0.append(phi)
         coord.append(coordination_number(pack))
         stress.append(float(sig[2, 2]) / 1e6)
+        stress_mean.append(float(np.trace(sig)) / 3e6)
         cementation = _Cementation(pack, p)
         runs = [_pulse_sweep(cementation, cements[c], folder / f"pulse_{sample}_{c}.nc",
                              progress) for c in p["cements"]]
@@ -249,10 +247,16 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
                          np.outer(phi0, 1.0 - np.asarray(p["saturations"])),
                          {"units": "1", "long_name": "porosity after cementation, "
                                                      "phi0 (1 - S_c)"}),
-            "porosity_uncemented": (("sample",), phi0, {"units": "1"}),
+            "porosity_uncemented": (("sample",), phi0, {
+                "units": "1", "long_name": "porosity of the uncemented pack in its core window "
+                                           "between the end slabs"}),
             "coordination_number": (("sample",), coord, {"units": "1"}),
-            "stress": (("sample",), stress, {"units": "MPa",
-                                             "long_name": "vertical contact stress of the pack"}),
+            "stress": (("sample",), stress, {
+                "units": "MPa", "long_name": "vertical contact stress sigma_zz of the pack's core "
+                                             "(virial, normal and tangential forces)"}),
+            "stress_mean": (("sample",), stress_mean, {
+                "units": "MPa", "long_name": "mean contact stress trace(sigma)/3 of the pack's "
+                                             "core"}),
         },
         coords={"sample": p["samples"], "cement": p["cements"], "scheme": p["schemes"],
                 "saturation": ("saturation", p["saturations"], {"units": "1",
