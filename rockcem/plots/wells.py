@@ -94,6 +94,20 @@ def well_template(ds, well, *, fig=None, **template):
     -------
     matplotlib.figure.Figure
         The template, with the well's samples in grey (``gid`` ``"well"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rockcem.variables import build_dataset
+    >>> z = np.linspace(1000.0, 3000.0, 5)
+    >>> logs = {"density": (("depth",), np.full(5, 2.3)),
+    ...         "vp": (("depth",), np.linspace(3.0, 4.2, 5)),
+    ...         "vs": (("depth",), np.linspace(1.7, 2.5, 5))}
+    >>> ds = build_dataset(logs, {"depth": (("depth",), z)})
+    >>> fig = well_template(ds, ds)
+    >>> [line.get_gid() for line in fig.axes[0].lines if line.get_gid() == "well"]
+    ['well']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     from .templates import rock_physics_template
 
@@ -127,9 +141,39 @@ def fit_figure(fit, well, *, fig=None):
     at the fitted values (solid), the fit's depth window shaded, and the fitted values with
     their uncertainties in the title.
 
+    Parameters
+    ----------
+    fit : rockcem.wellfit.SceneFit
+        From :func:`rockcem.wellfit.fit_scene`.
+    well : xarray.Dataset
+        The logs it was fitted to.
+    fig : matplotlib.figure.Figure, optional
+        Empty figure to draw in.
+
     Returns
     -------
     matplotlib.figure.Figure
+        One axes per fitted log (lines with ``gid`` ``"before"`` and ``"after"``).
+
+    Examples
+    --------
+    A well made from the sandstone scene with delta = 60 MPa, fitted from the scene's 100:
+
+    >>> import numpy as np
+    >>> from rockcem.scene import load_scene, run_scene
+    >>> from rockcem.synthetic_well import synthetic_well
+    >>> from rockcem.wellfit import fit_scene
+    >>> scene = load_scene("carcione2022_sandstone").replace(**{"path.depth_step": 100.0})
+    >>> truth = run_scene(scene.replace(**{"models.patchy_cement.delta": 60.0}))
+    >>> well = synthetic_well(truth, np.arange(1000.0, 3000.0, 50.0), sigma={"vp": 0.0},
+    ...                       model="patchy_cement")
+    >>> fit = fit_scene(scene, well, ["models.patchy_cement.delta"], model="patchy_cement")
+    >>> round(fit.result.values["models.patchy_cement.delta"], 3)
+    60.0
+    >>> fig = fit_figure(fit, well)
+    >>> sorted(line.get_gid() for line in fig.axes[0].lines if line.get_gid())
+    ['after', 'before']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     import matplotlib.pyplot as plt
 
