@@ -188,9 +188,12 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
 
 
 # ----------------------------------------------------------------------------- RPT
-def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fluid="water",
-                          critical_porosity=0.36, pressure=20.0,
-                          porosity=(0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35),
+_TEMPLATE_DEFAULTS = {"grain": "quartz", "cement": "quartz_cement", "fluid": "water",
+                      "critical_porosity": 0.36}
+
+
+def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
+                          critical_porosity=None, pressure=20.0, porosity=None,
                           cement_fraction=(0.0, 0.01, 0.02, 0.04, 0.08),
                           coordination_number=9.0, delta=100.0, fig=None):
     r"""Rock-physics template: acoustic impedance against Vp/Vs from the patchy-cement model.
@@ -208,16 +211,18 @@ def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fl
     ----------
     ds : xarray.Dataset, optional
         Scene Dataset with ``density``, ``vp`` and ``vs`` (optionally per ``model``).
-    grain, cement : str or Mineral
-        Grain and cement materials; default quartz and quartz cement.
-    fluid : str or Fluid
-        Pore fluid; default water.
-    critical_porosity : float
-        :math:`\phi_c`, in (0, 1); default 0.36.
+    grain, cement : str or Mineral, optional
+        Grain and cement materials; default those of ``ds.attrs`` (a sandstone scene's),
+        else quartz and quartz cement.
+    fluid : str or Fluid, optional
+        Pore fluid; default ``ds.attrs["fluid"]``, else water.
+    critical_porosity : float, optional
+        :math:`\phi_c`, in (0, 1); default ``ds.attrs["critical_porosity"]``, else 0.36.
     pressure : float
         Effective pressure, MPa, ``>= 0``; default 20.
-    porosity : array_like, shape (m,)
-        Porosities of the iso-porosity lines, in (0, ``critical_porosity``].
+    porosity : array_like, shape (m,), optional
+        Porosities of the iso-porosity lines, in (0, ``critical_porosity``]; default 0.05,
+        0.10, … up to ``critical_porosity``.
     cement_fraction : array_like, shape (k,)
         Cement fractions of the iso-cement lines, in [0, ``critical_porosity``).
     coordination_number : float
@@ -251,12 +256,20 @@ def rock_physics_template(ds=None, *, grain="quartz", cement="quartz_cement", fl
     """
     from ..models import patchy_cement_model
 
-    grain = _material(grain, "Mineral", None, "grain")
-    cement = _material(cement, "Mineral", None, "cement")
-    fluid = _material(fluid, "Fluid", None, "fluid")
-    phic = float(critical_porosity)
+    given = {"grain": grain, "cement": cement, "fluid": fluid,
+             "critical_porosity": critical_porosity}
+    attrs = dict(ds.attrs) if ds is not None and hasattr(ds, "attrs") else {}
+    for key, value in given.items():           # given, else the scene's, else the default
+        if value is None:
+            given[key] = attrs.get(key, _TEMPLATE_DEFAULTS[key])
+    grain = _material(given["grain"], "Mineral", None, "grain")
+    cement = _material(given["cement"], "Mineral", None, "cement")
+    fluid = _material(given["fluid"], "Fluid", None, "fluid")
+    phic = float(given["critical_porosity"])
     if not 0.0 < phic < 1.0:
         raise ValueError(f"critical_porosity must lie in (0, 1); got {phic:g}")
+    if porosity is None:
+        porosity = np.arange(1, int(phic / 0.05 + 1e-9) + 1) * 0.05
     phi = np.atleast_1d(np.asarray(porosity, dtype=float))
     phip = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
     if phi.ndim != 1 or np.any(~np.isfinite(phi)) or np.any((phi <= 0.0) | (phi > phic)):

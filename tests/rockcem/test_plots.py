@@ -323,6 +323,24 @@ def test_rock_physics_template_lines_match_patchy_cement_model():
     assert len(ax.texts) == 7                              # one label per iso-porosity line
 
 
+def test_rock_physics_template_takes_the_scene_materials():
+    ds = scene().assign_attrs(grain="quartz_han_guo", cement="epoxy_kaolinite",
+                              critical_porosity=0.4)
+    ax = plots.rock_physics_template(ds).axes[0]
+    gids = [ln.get_gid() for ln in ax.get_lines()]
+    assert "porosity=0.4" in gids and "porosity=0.45" not in gids
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
+    r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.04,
+                            20.0, WATER, critical_porosity=0.4)
+    assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
+    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    ax = plots.rock_physics_template(ds, grain="quartz", cement="quartz_cement",
+                                     critical_porosity=0.36).axes[0]
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
+    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, 20.0, WATER, critical_porosity=0.36)
+    assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
+
+
 def test_rock_physics_template_with_dataset_points_coloured_by_depth():
     ds = scene()
     fig = plots.rock_physics_template(ds, porosity=[0.1, 0.2, 0.3], cement_fraction=[0.0, 0.04])
