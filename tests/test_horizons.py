@@ -188,3 +188,19 @@ def test_nodes_table_from_csv(sandstone_raw, linear, tmp_path):
     with pytest.raises(ValueError, match="time since deposition .* Myr"):
         scene_from_dict({**sandstone_raw, "path": {"kind": "nodes", "table": "ma.csv"}},
                         base_dir=tmp_path)
+
+
+def test_shale_horizons_encoding_the_linear_model_give_the_linear_scene():
+    raw = tomllib.loads(load_scene("carcione2022_shale").text)
+    raw.pop("sweep", None)
+    raw["path"] = {"gradient": G, "max_depth": 3000.0, "depth_step": 250.0}
+    linear = run_scene(scene_from_dict(raw))
+    z = linear.depth.values[1:]
+    rows = [(f"h{k}", t, d, T0 + G * d / 1000.0) for k, zk in enumerate(z)
+            for t, d in ((zk / S, 0.0), (0.0, zk))]
+    h, t, d, T = (list(c) for c in zip(*rows))
+    ds = run_scene(_with_path(raw, {"kind": "horizons", "horizon": h, "time": t, "depth": d,
+                                    "temperature": T}))
+    for name in ("illite_fraction", "porosity", "vp"):
+        np.testing.assert_allclose(ds[name].values, linear[name].isel(depth=slice(1, None)),
+                                   rtol=1e-13, atol=1e-15, err_msg=name)
