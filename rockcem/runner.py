@@ -260,9 +260,6 @@ def evaluate(scene):
     if warnings:
         attrs["validity_warnings"] = "\n".join(warnings)
     ds = build_dataset(data, coords, attrs)
-    if "horizon" in ds.coords:
-        ds["horizon"].attrs["long_name"] = "horizon (the surface deposited at one time) now at " \
-            "this depth"
     if "model" in ds.coords:
         ds["model"].attrs["description"] = "; ".join(
             f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
