@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._style import (_INK, _DEFAULT_TRENDS, _RC, _label, _model_label, _model_style, _shade,
-                     _members, _sweep_legend, _check_dataset, _require, _figure)
+                     _members, _sweep_legend, _sweep_text, _check_dataset, _require, _figure)
 
 __all__ = ["depth_trends"]
 
@@ -108,18 +108,19 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                 style.pop("marker", None)
                 name = _model_label(model) if model is not None else str(da.name)
                 drawn = set()
-                for j, (isel, text) in enumerate(members):
+                for j, (isel, _text) in enumerate(members):
                     sel = {d: v for d, v in isel.items() if d in da.dims}
                     if tuple(sel.items()) in drawn:
                         continue                    # this variable does not change here
                     drawn.add(tuple(sel.items()))
                     colour = _shade(style["color"], j, len(members)) if sel else style["color"]
+                    text = ", ".join(f"{d} = {_sweep_text(d, ds[d].values[v], ds)}"
+                                     for d, v in sel.items())
                     if model is not None:
                         sel["model"] = i
                     ax.plot(da.isel(sel).transpose("depth").values, depth,
                             **{**style, "color": colour},
-                            label=f"{name}, {text}" if len(sel) > (model is not None)
-                            else name)
+                            label=f"{name}, {text}" if text else name)
             ax.set_xlabel(_label(da.name, ds, width=26))
             if len(arrays) > 1:
                 ax.set_title(f"({chr(ord('a') + k)})", loc="left", fontweight="bold")

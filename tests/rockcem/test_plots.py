@@ -143,6 +143,10 @@ def test_depth_trends_draw_every_member_of_two_sweep_dimensions():
                 model="patchy_cement", gradient=g, rate=rate).values)
     assert len({ln.get_color() for ln in ax.get_lines()
                 if ln.get_label().startswith("Model 4")}) == 4
+    ds["porosity"] = ds.porosity.isel(rate=0, drop=True)    # changes with the gradient only
+    ax = plots.depth_trends(ds, ["porosity"]).axes[0]
+    assert [ln.get_label() for ln in ax.get_lines()] == [
+        "porosity, gradient = 25 °C/km", "porosity, gradient = 35 °C/km"]
 
 
 @pytest.mark.parametrize("kind", ["depth", "vp", "template"])
