@@ -45,7 +45,7 @@ def _contact_templates(grain, cement, fluid, pressure, coordination_number, crit
 
 
 def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None, pressure=None,
-                      coordination_number=9.0, critical_porosity=None, fig=None):
+                      coordination_number=None, critical_porosity=None, fig=None):
     r"""Velocity against porosity, per model, over the contact-model family of templates.
 
     The templates are the dry-rock models of :mod:`rockcem.granular` — soft sand, stiff sand
@@ -72,7 +72,8 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
         Effective pressure of the Hertz–Mindlin contacts, MPa, ``> 0``; default the median of
         ``ds["pressure_effective"]`` if present, else 20.
     coordination_number : float, optional
-        Grain contacts per grain; default 9.
+        Grain contacts per grain; default the scene's Model 4 value
+        (``ds.attrs["parameters_json"]``), else 9.
     critical_porosity : float, optional
         :math:`\phi_c`, in (0.04, 1); default ``ds.attrs.get("critical_porosity", 0.36)``.
     fig : matplotlib.figure.Figure, optional
@@ -130,6 +131,8 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
                  else critical_porosity)
     if not 0.04 < phic < 1.0:
         raise ValueError(f"critical_porosity must lie in (0.04, 1); got {phic:g}")
+    if coordination_number is None:
+        coordination_number = _scene_knobs(ds).get("coordination_number", 9.0)
     templates = _contact_templates(grain, cement, fluid, pressure, float(coordination_number),
                                    phic)
 
@@ -195,7 +198,7 @@ _TEMPLATE_DEFAULTS = {"grain": "quartz", "cement": "quartz_cement", "fluid": "wa
 def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
                           critical_porosity=None, pressure=20.0, porosity=None,
                           cement_fraction=(0.0, 0.01, 0.02, 0.04, 0.08),
-                          coordination_number=9.0, delta=100.0, fig=None):
+                          coordination_number=None, delta=None, fig=None):
     r"""Rock-physics template: acoustic impedance against Vp/Vs from the patchy-cement model.
 
     Lines of constant porosity and of constant cement fraction from
@@ -225,11 +228,15 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         0.10, … up to ``critical_porosity``.
     cement_fraction : array_like, shape (k,)
         Cement fractions of the iso-cement lines, in [0, ``critical_porosity``).
-    coordination_number : float
-        Coordination number of the pack; default 9.
-    delta : float
-        Bonding pre-stress of the uncemented contacts, MPa; default 100 (as Model 4 of
-        Carcione et al. 2022); a small value (e.g. 0) spreads the iso-cement lines.
+    coordination_number : float, optional
+        Coordination number of the pack; default the scene's (``ds.attrs["parameters_json"]``,
+        section ``models.patchy_cement``), else 9.
+    delta : float, optional
+        Bonding pre-stress of the uncemented contacts, MPa; default the scene's, else 100 (as
+        Model 4 of Carcione et al. 2022); a small value (e.g. 0) spreads the iso-cement lines.
+        The scene's other Model 4 parameters (``scheme``, ``thickness``,
+        ``contact_cement_limit``, ``f``) are used as well, and a sweep over one of them gets
+        each panel's own template.
     fig : matplotlib.figure.Figure, optional
         Empty figure to draw in.
 
@@ -283,13 +290,24 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     ok = P + C <= phic * (1.0 + 1e-12)
     if not ok.any():
         raise ValueError("no porosity + cement_fraction combination is within critical_porosity")
-    rock = patchy_cement_model(grain, cement, P[ok], C[ok], pressure, fluid,
-                               critical_porosity=phic,
-                               coordination_number=coordination_number, delta=delta)
-    impedance = np.full(P.shape, np.nan)
-    ratio = np.full(P.shape, np.nan)
-    impedance[ok] = rock.density * rock.vp
-    ratio[ok] = rock.vp / rock.vs
+    knobs = _scene_knobs(ds)
+    knobs.update({k: float(v) for k, v in (("coordination_number", coordination_number),
+                                           ("delta", delta)) if v is not None})
+    knobs.setdefault("coordination_number", 9.0)
+    knobs.setdefault("delta", 100.0)
+    grids = {}
+
+    def grid(member_knobs):
+        """Impedance and Vp/Vs of the template with these Model 4 parameters (cached)."""
+        key = tuple(sorted(member_knobs.items()))
+        if key not in grids:
+            rock = patchy_cement_model(grain, cement, P[ok], C[ok], pressure, fluid,
+                                       critical_porosity=phic, **member_knobs)
+            impedance, ratio = np.full(P.shape, np.nan), np.full(P.shape, np.nan)
+            impedance[ok] = rock.density * rock.vp
+            ratio[ok] = rock.vp / rock.vs
+            grids[key] = impedance, ratio
+        return grids[key]
 
     import matplotlib.pyplot as plt
 
@@ -312,10 +330,13 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
             ax.remove()
         axes = axes[:len(members)]
         for k, ax in enumerate(axes):
-            _template_lines(ax, impedance, ratio, phi, phip, ok,
+            own = _member_knobs(ds, members[k][0], coordination_number, delta)
+            _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
                             legend=(k == 0) and (ax if len(members) == 1 else fig), title=(
                 f"Model 4 template: {grain.name or 'grain'}, {cement.name or 'cement'},\n"
-                f"{fluid.name or 'fluid'}, {pressure:g} MPa, $\\phi_c$ = {phic:g}"))
+                f"{fluid.name or 'fluid'}, {pressure:g} MPa, $\\phi_c$ = {phic:g}, "
+                f"$n$ = {knobs['coordination_number']:g}, $\\delta$ = {knobs['delta']:g} MPa"
+                + (" (swept: panel titles)" if own else "")))
             if len(members) > 1:
                 ax.set_title(members[k][1], fontsize=8.0)
             if k % ncols == 0:
@@ -326,6 +347,40 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         if ds is not None:
             _data_points(fig, axes, ds, density, vp, vs, members)
     return fig
+
+
+#: Model 4 parameters of a scene that the template takes (keywords of patchy_cement_model).
+_MODEL4_KNOBS = ("coordination_number", "contact_cement_limit", "delta", "scheme", "thickness",
+                 "f")
+
+
+def _scene_knobs(ds) -> dict:
+    """The scene's Model 4 parameters from ``ds.attrs["parameters_json"]`` (empty if none)."""
+    import json
+
+    text = ds.attrs.get("parameters_json") if ds is not None else None
+    if not text:
+        return {}
+    section = json.loads(text).get("models.patchy_cement") or {}
+    return {k: section[k] for k in _MODEL4_KNOBS if section.get(k) is not None}
+
+
+def _member_knobs(ds, isel, coordination_number, delta) -> dict:
+    """Model 4 parameters swept in ``ds`` (attribute ``sweep``) at one member, except those
+    given explicitly."""
+    import json
+
+    if ds is None or not isel or not ds.attrs.get("sweep"):
+        return {}
+    given = {"coordination_number": coordination_number, "delta": delta}
+    own = {}
+    for dotted in json.loads(ds.attrs["sweep"]):
+        section, _, key = dotted.rpartition(".")
+        if section == "models.patchy_cement" and key in _MODEL4_KNOBS and key in isel \
+                and given.get(key) is None:
+            value = ds[key].values[isel[key]].item()
+            own[key] = int(value) if key == "scheme" else float(value)
+    return own
 
 
 def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):

@@ -345,6 +345,27 @@ def test_rock_physics_template_takes_the_scene_materials():
     assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
 
 
+def test_rock_physics_template_takes_the_scene_model_parameters_per_panel():
+    from rockcem.scene import load_scene, run_scene
+
+    ds = run_scene(load_scene("han_guo_mcct").replace(**{"path.depth_step": 500.0}))
+    fig = plots.rock_physics_template(ds)
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in panels] == [f"thickness = {t:g}"
+                                                 for t in (0.0, 0.01, 0.03, 0.05)]
+    grain, cement = mineral("quartz_han_guo"), mineral("epoxy_kaolinite")
+    for ax, thickness in zip(panels, (0.0, 0.01, 0.03, 0.05)):
+        r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+                                coordination_number=8.5, scheme=2, thickness=thickness)
+        line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
+        assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    fixed = plots.rock_physics_template(ds, delta=40.0, coordination_number=6.0)
+    line = next(ln for ln in fixed.axes[0].get_lines() if ln.get_gid() == "porosity=0.2")
+    r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+                            coordination_number=6.0, delta=40.0, scheme=2, thickness=0.0)
+    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+
+
 def test_rock_physics_template_with_dataset_points_coloured_by_depth():
     ds = scene()
     fig = plots.rock_physics_template(ds, porosity=[0.1, 0.2, 0.3], cement_fraction=[0.0, 0.04])
