@@ -51,6 +51,9 @@ def test_md_scene_runs_from_the_cli_and_resumes(tmp_path, run_cli):
             2 * float(vp.sel(scheme="contact", saturation=0.0))
         assert float(ds.porosity.sel(sample="loose", saturation=0.1)) < \
             float(ds.porosity_uncemented.sel(sample="loose"))
+        # Both stresses of the pack, named and in MPa: a settled pack carries its weight only.
+        assert ds.stress.attrs["units"] == ds.stress_mean.attrs["units"] == "MPa"
+        assert 0 < float(ds.stress_mean.sel(sample="loose")) < 0.01
     stages = sorted(p.name for p in (tmp_path / "work").rglob("*.nc") if p.name[0] != ".")
     assert stages == ["pulse_loose_hard.nc", "settle.nc"]
     # A second run resumes from the saved stages: none is rewritten, the result is the same.
