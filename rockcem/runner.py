@@ -163,7 +163,7 @@ class _Pipeline:
             return fn(minerals, self.solid_fractions, self.porosity, fluid, **knobs)
 
     def state_variable(self, name):
-        if name in ("time", "burial_time"):
+        if name == "burial_time":
             return self.now(np.broadcast_to(self.path.time, self.path.depth.shape))
         if name == "temperature":
             return self.now(self.path.temperature)
@@ -242,10 +242,7 @@ def evaluate(scene):
     data = {}
     for name in scene.outputs:
         if name not in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs"):
-            # "time" (the scene's output key) is written as burial_time: Myr since deposition,
-            # which CF readers must not take for a time coordinate.
-            key = "burial_time" if name == "time" else name
-            data[key] = (("depth",), np.asarray(pipe.state_variable(name)))
+            data[name] = (("depth",), np.asarray(pipe.state_variable(name)))
     wanted = [n for n in scene.outputs if n in ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")]
     coords = {"depth": (("depth",), depth)}
     if scene.sections["path"]["kind"] == "horizons":
@@ -263,14 +260,6 @@ def evaluate(scene):
     if "model" in ds.coords:
         ds["model"].attrs["description"] = "; ".join(
             f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
-    return _coordinate_encoding(ds)
-
-
-def _coordinate_encoding(ds):
-    """No ``_FillValue`` on coordinates in the netCDF file (CF 2.5.1: coordinate variables
-    have no missing values); xarray would otherwise add NaN to every float coordinate."""
-    for name in ds.coords:
-        ds[name].encoding["_FillValue"] = None
     return ds
 
 
@@ -339,7 +328,9 @@ def run(scene, *, scheduler=None, progress=False):
     out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
     _merge_warnings(out, results, dims, values)
-    _coordinate_encoding(out)
+    from .variables import no_coordinate_fill
+
+    no_coordinate_fill(out)
     out.attrs["scene_toml"] = scene.text
     used = sorted({ds.attrs["calibration_json"] for _, ds in results
                    if "calibration_json" in ds.attrs})

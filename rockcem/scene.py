@@ -144,11 +144,11 @@ MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patch
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
 #: Variables of the rock state, per lithology.
 STATE_OUTPUTS = {
-    "sandstone": ("time", "temperature", "pressure_confining", "pressure_pore",
+    "sandstone": ("burial_time", "temperature", "pressure_confining", "pressure_pore",
                   "pressure_effective", "porosity", "cement_fraction", "intergranular_volume",
                   "pore_filled", "density"),
-    "shale": ("time", "temperature", "pressure_confining", "pressure_pore", "pressure_effective",
-              "porosity", "smectite_fraction", "illite_fraction", "density"),
+    "shale": ("burial_time", "temperature", "pressure_confining", "pressure_pore",
+              "pressure_effective", "porosity", "smectite_fraction", "illite_fraction", "density"),
 }
 
 
@@ -291,6 +291,9 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     outputs = head["outputs"]
     if outputs is None:
         outputs = list(valid_outputs)
+    # "time" was the name of burial_time before it was renamed (a variable called "time" reads as
+    # a CF time coordinate); scene files that still list it keep working.
+    outputs = ["burial_time" if name == "time" else name for name in outputs]
     for name in outputs:
         if name not in valid_outputs:
             hint = (" (model outputs need at least one model in [models])"

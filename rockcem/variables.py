@@ -14,7 +14,7 @@ import numpy as np
 
 from ._data import read_toml
 
-__all__ = ["variable_attrs", "variable_names", "build_dataset"]
+__all__ = ["variable_attrs", "variable_names", "build_dataset", "no_coordinate_fill"]
 
 
 def variable_names() -> list[str]:
@@ -69,4 +69,13 @@ def build_dataset(data: Mapping[str, tuple], coords: Mapping[str, tuple], attrs=
     ds = xr.Dataset({k: var(k, *v) for k, v in data.items()},
                     coords={k: var(k, *v) for k, v in coords.items()},
                     attrs=dict(attrs or {}))
+    return no_coordinate_fill(ds)
+
+
+def no_coordinate_fill(ds):
+    """Write no ``_FillValue`` for the coordinates of ``ds`` (CF 1.11, sect. 2.5.1: coordinate
+    variables have no missing values; xarray would otherwise give every float coordinate a NaN
+    fill value). Sets the encoding in place and returns ``ds``."""
+    for name in ds.coords:
+        ds[name].encoding["_FillValue"] = None
     return ds

@@ -83,3 +83,27 @@ def test_raw_file_coordinates_have_no_fill_value(written):
                 assert "missing_value" not in nc.variables[name].ncattrs(), name
         for var in nc.variables.values():
             assert "units" not in var.ncattrs() or var.getncattr("units") != "", var.name
+
+
+def test_burial_state_file_coordinates_have_no_fill_value(tmp_path):
+    """The burial package's own Datasets are written as CF too (no NaN fill on depth)."""
+    import burial
+
+    path = burial.linear_path(gradient=30.0, sedimentation_rate=40.0, surface_temperature=15.0,
+                              max_depth=1000.0, depth_step=250.0)
+    for state in (burial.sandstone_state(path), burial.shale_state(path)):
+        out = write_dataset(state, tmp_path / "state.nc")
+        with netCDF4.Dataset(out) as nc:
+            assert "_FillValue" not in nc.variables["depth"].ncattrs()
+            assert "burial_time" in nc.variables and "time" not in nc.variables
+
+
+def test_scene_output_key_time_is_read_as_burial_time():
+    """Scene files written before the rename list ``time``; it selects ``burial_time``."""
+    from rockcem.scene import scene_from_dict
+
+    raw, _ = read_scene_toml("carcione2022_sandstone")
+    raw = {**raw, "outputs": ["time", "porosity"], "models": {}}
+    assert scene_from_dict(raw).outputs == ("burial_time", "porosity")
+    raw["outputs"] = ["burial_time"]
+    assert scene_from_dict(raw).outputs == ("burial_time",)
