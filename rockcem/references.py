@@ -81,6 +81,10 @@ REFERENCES: dict[str, str] = {
         "Squire, W., and Trapp, G., 1998. Using complex variables to estimate derivatives of real "
         "functions. SIAM Review 40, 110-112."
     ),
+    "Carroll1988": (
+        "Carroll, R. J., and Ruppert, D., 1988. Transformation and Weighting in Regression. "
+        "Chapman and Hall, New York."
+    ),
 }
 
 

@@ -48,7 +48,8 @@ def test_fit_recovers_known_parameters_within_their_uncertainties(scene, well):
     assert abs(r.chi2 / r.dof - 1.0) < 5.0 * np.sqrt(2.0 / r.dof)
     assert all(r.misfit[v] < r.misfit_initial[v] for v in ("vp", "vs"))
     assert fit.model == "patchy_cement" and fit.scene.models == ("patchy_cement",)
-    assert set(fit.scene.outputs) == {"vp", "vs", "density"}    # only what the fit needs
+    # Only what the fit needs: density does not depend on the model's parameters.
+    assert set(fit.scene.outputs) == {"vp", "vs"} and fit.variables == ("vp", "vs")
 
 
 def test_model_parameters_only_run_the_kinetics_once(scene, well, monkeypatch):
@@ -58,7 +59,7 @@ def test_model_parameters_only_run_the_kinetics_once(scene, well, monkeypatch):
     original = burial.quartz_cement
     monkeypatch.setattr(burial, "quartz_cement", lambda *a, **k: calls.append(1) or
                         original(*a, **k))
-    fast = fit_scene(scene, well, list(TRUE), errors=SIGMA)
+    fast = fit_scene(scene, well, list(TRUE), errors=SIGMA, variables=list(SIGMA))
     assert len(calls) == 1          # the rock state, shared by every trial
     # ... and the predictions are those of the full scene at the fitted values.
     full = evaluate(fast.fitted)
@@ -154,3 +155,37 @@ def test_scene_calibration_refusals(scene, tmp_path):
         k: v for k, v in raw["sandstone"].items() if k != "beta"}}, base_dir=tmp_path)
     assert applied.sections["sandstone"]["beta"] == 0.02
     assert applied.calibrations["scene"]["name"] == "beta"
+
+
+
+def test_relative_uncertainties_match_the_scatter_of_repeated_fits():
+    """Without errors, each log is weighted by its own scatter: over independent noise
+    realisations the spread of the fitted value equals the reported standard error. One
+    variance pooled over a 2 % sonic and a 15 % porosity log (porosity does not depend on the
+    Krief exponent) overstated the error about 5-fold, and weights from the noisy log itself
+    biased the fit by most of a standard error."""
+    raw = tomllib.loads(load_scene("carcione2022_sandstone").text)
+    raw["path"].update(depth_step=100.0, max_depth=4000.0)
+    raw["models"] = {"hs_gassmann": {"A": 3.0}}
+    scene = scene_from_dict(raw)
+    true = {"models.hs_gassmann.A": 2.5}
+    ds = evaluate(scene.replace(**true))
+    z = np.arange(1000.0, 3800.0, 20.0)
+    clean = {v: np.interp(z, ds.depth.values, ds[v].values.squeeze())
+             for v in ("vp", "vs", "porosity")}
+    relative = {"vp": 0.02, "vs": 0.03, "porosity": 0.15}           # multiplicative noise
+    rng = np.random.default_rng(7)
+    values, errors = [], []
+    for _ in range(40):
+        logs = {v: (("depth",), clean[v] * (1.0 + rng.normal(0.0, s, z.size)))
+                for v, s in relative.items()}
+        fit = fit_scene(scene, build_dataset(logs, {"depth": (("depth",), z)}), list(true),
+                        variables=list(relative))
+        values.append(fit.result.values["models.hs_gassmann.A"])
+        errors.append(fit.result.stderr["models.hs_gassmann.A"])
+    spread = np.std(values, ddof=1)
+    # 40 realisations: the sample standard deviation is good to about 11 % (one sigma).
+    assert abs(spread / np.mean(errors) - 1.0) < 0.35, (spread, np.mean(errors))
+    # Unbiased: the mean of 40 fits within 3 of its standard errors (the weights from the
+    # noisy logs, m/o - 1, put it 0.75 of a single fit's standard error high).
+    assert abs(np.mean(values) - 2.5) < 3.0 * spread / np.sqrt(40)
