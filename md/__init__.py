@@ -5,8 +5,10 @@ damping and Coulomb friction (:mod:`md.contact`), the periodic box and cell-list
 (:mod:`md.space`, :mod:`md.neighbors`), velocity-Verlet integration with the time step from the
 shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`), compaction
 (:func:`md.compact`), packs saved to netCDF between stages (:mod:`md.state`), the cement lattice
-with contact, coating and pore-body growth (:mod:`md.cement`) and the linearised acoustic stage
-with the pulse test and static moduli (:mod:`md.acoustic`), and bonded-contact cement with
+with contact, coating, pore-body and pendular growth (:mod:`md.cement`), the linearised acoustic
+stage (:mod:`md.acoustic`; grain–cement interface rules in :mod:`md.interface`) with the pulse
+test (:mod:`md.pulse`) and static moduli (:mod:`md.static`), one cemented contact against the
+cemented-contact theory (:mod:`md.cemented_contact`), and bonded-contact cement with
 static bulk and shear moduli (:mod:`md.bonded`); :mod:`md.calibrate` fits the effective-medium
 models of :mod:`rockcem` to MD results (the one md module that uses rockcem).
 """

@@ -199,3 +199,23 @@ def test_bad_knobs(cemented_cubic):
         pulse_test(cement_block((3, 3, 8), CW))
     with pytest.raises(ValueError, match="both"):
         acoustic_system(cemented_cubic[0], cemented_cubic[1])
+
+
+def test_pulse_reports_the_errors_eq11_leaves_out():
+    """Beside the eq. 11 error (Delta L = R, the cell width for a block): the same with half a
+    slab, the pulse minus its static limit, and a given relative resolution error."""
+    block = cement_block((3, 3, 48), CW, HARD_CEMENT, slab_thickness=6 * CW)
+    ds = pulse_test(block, resolution_error=0.02)
+    L, dT = ds.attrs["distance_m"], ds.attrs["delta_T_s"]
+    T = L / float(ds.velocity)
+    assert ds.attrs["delta_L_m"] == pytest.approx(CW)
+    assert float(ds.velocity_error) == pytest.approx((L * dT + T * CW) / T**2, rel=1e-9)
+    assert float(ds.velocity_error_half_slab) == pytest.approx((L * dT + T * 3 * CW) / T**2,
+                                                               rel=1e-9)
+    assert float(ds.velocity_error_static) == pytest.approx(
+        float(ds.velocity) - HARD_CEMENT.vp, rel=1e-6)
+    assert float(ds.velocity_error_resolution) == pytest.approx(0.02 * float(ds.velocity))
+    assert "R" in ds.attrs["delta_L_choice"]
+    assert np.isnan(float(pulse_test(block).velocity_error_resolution))
+    with pytest.raises(ValueError, match="resolution_error"):
+        pulse_test(block, resolution_error=-0.1)

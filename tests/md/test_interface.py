@@ -68,12 +68,20 @@ def test_bond_kernel_against_brute_force():
     assert set(bj_paper) < set(bj)
 
 
-def test_patch_radius_is_the_cap_base_radius():
-    theta = np.linspace(0.05, np.pi / 2, 7)
-    area = 2 * np.pi * R**2 * (1 - np.cos(theta))
-    assert np.allclose(patch_radius(area, R), R * np.sin(theta), rtol=1e-12)
-    assert patch_radius(3 * np.pi * R**2, R) == pytest.approx(R)
-    assert patch_radius(1e-6 * R**2, R) == pytest.approx(np.sqrt(1e-6 / np.pi) * R, rel=1e-6)
+@pytest.mark.parametrize("theta_in,theta_out", [(0.0, 0.4), (0.0, np.pi / 2), (0.3, 0.9)])
+def test_patch_radius_is_the_outer_radius_of_a_cap_or_zone(theta_in, theta_out):
+    """A spherical cap or zone theta_in < theta < theta_out about a tilted axis, sampled by
+    midpoint quadrature: the patch radius is R sin(theta_out)."""
+    t_edges = np.linspace(theta_in, theta_out, 401)
+    t = 0.5 * (t_edges[1:] + t_edges[:-1])
+    p = np.linspace(0, 2 * np.pi, 721)[:-1]
+    t, p = np.meshgrid(t, p, indexing="ij")
+    n = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1).reshape(-1, 3)
+    area = (R**2 * np.sin(t) * np.diff(t_edges)[0] * 2 * np.pi / 720).ravel()
+    c, s = np.cos(0.7), np.sin(0.7)
+    n = n @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]]).T
+    a = patch_radius(n, area, np.zeros(n.shape[0], np.int64), np.array([R]))
+    assert a[0] == pytest.approx(R * np.sin(theta_out), rel=2e-4)
 
 
 def test_patches_against_connected_components(rng):
@@ -121,8 +129,8 @@ def contact_sequence():
 
 def test_patch_interface_converges_to_the_integral_equation(contact_sequence):
     """Patch rule: successive changes shrink (first order), within 10 % (normal) and 25 %
-    (tangential) of the integral equation at Omega 32; Omega 64 (benchmark) is 3.5 % and 15 %
-    below it."""
+    (tangential) of the integral equation at Omega 32 (0.937, 0.793); Omega 48 (benchmark) is
+    3.4 % and 16.5 % below it."""
     r = contact_sequence["patch"]
     steps = np.abs(np.diff(r, axis=0))
     assert np.all(steps[1] < 0.6 * steps[0])
@@ -140,14 +148,14 @@ def test_paper_interface_stiffens_without_bound(contact_sequence):
 
 
 def test_rigid_cement_limit_is_the_welded_contact():
-    """Cement 900x stiffer: the patch rule tends to two flat punches in series, from below
-    (the resolved cement misses the core r < sqrt(R c_w) where the gap is under a cell)."""
+    """Cement 900x stiffer: the patch rule gives two flat punches of the patch's outer radius
+    in series, the welded contact (0.992, 0.978 at Omega 8, 16), although the resolved cement
+    misses the core r < sqrt(R c_w) where the gap is under a cell."""
     stiff = CementMaterial(HARD_CEMENT.vp * 30, HARD_CEMENT.vs * 30, HARD_CEMENT.density)
     welded = theory_contact_stiffness(0.5, limit="rigid_cement")
     r = [lattice_contact_stiffness(0.5, om, cement=stiff).normal / welded.normal
          for om in (8, 16, 24)]
-    assert r[0] < r[1] < r[2] < 1.02
-    assert r[2] > 0.9
+    assert np.all(np.abs(np.array(r) - 1) < 0.03)
 
 
 def test_theory_limits_bracket_the_integral_equation():
