@@ -92,6 +92,8 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
         raise ValueError(f"{source}: no depth curve: the first curve is {name!r}; it must be "
                          f"one of {', '.join(DEPTH_NAMES)}")
     depth = np.asarray(depth, dtype=float)
+    if depth.size == 0:
+        raise ValueError(f"{source}: no data rows")
     if not np.all(np.isfinite(depth)) or np.any(depth == null):
         row = int(np.flatnonzero(~np.isfinite(depth) | (depth == null))[0])
         raise ValueError(f"{source}: depth curve {name!r} has no value in data row {row + 1}")
@@ -192,8 +194,8 @@ def read_las(path, *, depth_offset=0.0):
         log.setLevel(level)
     version = las.version.get("VERS")
     if version is None or not str(version.value).strip().startswith("2"):
-        raise ValueError(f"{source}: LAS version {getattr(version, 'value', None)!r}; only LAS "
-                         "2.0 is read")
+        given = "none" if version is None else str(version.value).strip()
+        raise ValueError(f"{source}: LAS version {given}; only LAS 2.0 is read")
     if not las.curves:
         raise ValueError(f"{source}: no curves")
     _ascii_rows(text, len(las.curves), source)
@@ -203,6 +205,26 @@ def read_las(path, *, depth_offset=0.0):
     columns = [(c.mnemonic, c.unit, np.asarray(c.data, dtype=float)) for c in las.curves]
     return _dataset(source, columns, well=getattr(well, "value", "") or "", null=null,
                     depth_offset=depth_offset)
+
+
+def _csv_rows(path, source):
+    """Check that every data line of a CSV log has as many fields as its header (pandas
+    would take a first extra field for a row label, or fill a short line with NaN)."""
+    import csv
+
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            lines = [(i, row) for i, row in enumerate(csv.reader(
+                line.partition("#")[0] for line in fh), 1) if any(f.strip() for f in row)]
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{source} is not a readable CSV file: {exc}") from None
+    if not lines:
+        raise ValueError(f"{source}: empty file")
+    width = len(lines[0][1])
+    for i, row in lines[1:]:
+        if len(row) != width:
+            raise ValueError(f"{source}: line {i} has {len(row)} fields, the header "
+                             f"{width} (a wrapped or truncated line)")
 
 
 _HEADER = re.compile(r"^\s*([^\s(\[]+)\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*$")
@@ -217,8 +239,9 @@ def read_csv(path, *, null=-999.25, depth_offset=0.0):
     source = path.name
     if not path.is_file():
         raise ValueError(f"well file {str(path)!r} not found")
+    _csv_rows(path, source)
     try:
-        table = pd.read_csv(path, comment="#", skipinitialspace=True)
+        table = pd.read_csv(path, comment="#", skipinitialspace=True, index_col=False)
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise ValueError(f"{source} is not a readable CSV file: {exc}") from None
     columns = []
@@ -250,7 +273,9 @@ def read_well(path, *, depth_offset=0.0, null=-999.25):
         (first column the depth; headers ``NAME (unit)`` or ``NAME [unit]``; ``#`` comments).
     depth_offset : float, keyword-only
         m, subtracted from the log depth to give depth below the sediment surface, the depth of
-        the scenes (e.g. the kelly-bushing height plus the water depth). Default 0.
+        the scenes (e.g. the kelly-bushing height plus the water depth). Default 0. The depth
+        curve is taken as true vertical depth: the measured depth (``MD``) of a deviated well
+        must be converted first.
     null : float, keyword-only
         Null value of a CSV file (default ``-999.25``, the LAS convention); a LAS file gives
         its own (``NULL`` in ``~Well``).
@@ -328,7 +353,7 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
     samples ``n`` with a finite value inside the scene's depth range, the root-mean-square
     relative misfit :math:`\sqrt{\overline{(m/o - 1)^2}}` and the mean relative bias
     :math:`\overline{m/o - 1}` (:math:`m` the model at the log's depths, linear between scene
-    depths; :math:`o` the log).
+    depths; :math:`o` the log). The last interval includes its base.
 
     Parameters
     ----------
@@ -377,8 +402,9 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
         for label in labels:
             m = modelled.sel(model=label).values if label != "-" else modelled.values
             rel = m / well[name].values - 1.0
-            for top, base in zip(edges[:-1], edges[1:]):
-                sel = (z >= top) & (z < base) & np.isfinite(rel)
+            for k, (top, base) in enumerate(zip(edges[:-1], edges[1:])):
+                below = (z <= base) if k == edges.size - 2 else (z < base)
+                sel = (z >= top) & below & np.isfinite(rel)
                 n = int(sel.sum())
                 rows.append({"variable": name, "model": label, "top": top, "base": base,
                              "n": n,

@@ -123,3 +123,39 @@ def test_unknown_format_and_missing_file(tmp_path):
     junk.write_text("hello\n")
     with pytest.raises(ValueError, match="not a readable LAS file"):
         read_well(junk)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("DEPT (m),DT (us/ft)\n1000,100,5\n", r"line 2 has 3 fields, the header 2"),   # not a label
+    ("DEPT (m),DT (us/ft)\n1000,100\n1010\n", r"line 3 has 1 fields, the header 2"),
+    ("DEPT (m),DT (us/ft)\n", "no data rows"),
+    ("", "empty file"),
+])
+def test_csv_lines_of_the_wrong_width_are_refused(tmp_path, text, message):
+    f = tmp_path / "w.csv"
+    f.write_text(text)
+    with pytest.raises(ValueError, match=message) as info:
+        read_well(f)
+    assert "w.csv" in str(info.value)
+
+
+def test_las_version_named_plainly(tmp_path):
+    f = _las(tmp_path / "v.las", [("DEPT", "M", [1.0, 2.0]), ("DT", "US/M", [400.0, 410.0])])
+    f.write_text(f.read_text().replace("VERS.   2.0", "VERS.   1.2"))
+    with pytest.raises(ValueError, match=r"v.las: LAS version 1.2; only LAS 2.0 is read$"):
+        read_well(f)
+
+
+def test_misfit_counts_the_deepest_sample():
+    from rockcem.variables import build_dataset
+    from rockcem.wells import well_misfit
+
+    z = np.array([100.0, 200.0, 300.0])
+    scene = build_dataset({"vp": (("depth",), [2.0, 2.5, 3.0])}, {"depth": (("depth",), z)})
+    well = build_dataset({"vp": (("depth",), [2.2, 2.5, 2.4])}, {"depth": (("depth",), z)})
+    rows = well_misfit(scene, well)
+    assert rows.n.tolist() == [3]
+    # m/o - 1 = -1/11, 0, 1/4 (the deepest sample included).
+    np.testing.assert_allclose(rows.bias, (-1.0 / 11.0 + 0.25) / 3.0, rtol=1e-14)
+    split = well_misfit(scene, well, intervals=[100.0, 200.0, 300.0])
+    assert split.n.tolist() == [1, 2]
