@@ -131,13 +131,14 @@ def _wave_positions(rng, run, radii, z_insert, tries=200):
     return placed
 
 
-def _sequential(run, rng, radii, mat, wave, drop_height, d):
+def _sequential(run, rng, radii, mat, wave, drop_height, d, v_ref):
     """Drop ``radii`` in waves of ``wave`` grains; each wave starts one largest radius above
     the highest grain with the speed of a fall from ``drop_height`` and the next is released
     once every grain of the previous one is a diameter below where it started or has landed
-    (slower than a tenth of the largest fall speed)."""
+    (slower than a tenth of the largest fall speed). ``v_ref``: speed of the restitution
+    calibration, m/s."""
     v_terminal = GRAVITY / run.drag if run.drag > 0 else np.inf
-    v_bound = min(v_terminal, np.sqrt(2.0 * GRAVITY * drop_height))
+    v_bound = min(v_terminal, np.sqrt(2.0 * GRAVITY * max(drop_height, d)))
     start, waves = 0, 0
     last, z_last = np.zeros(0, dtype=int), 0.0
     while start < radii.size:
@@ -155,7 +156,7 @@ def _sequential(run, rng, radii, mat, wave, drop_height, d):
             run.add(pos, vel, wave_r)
             start += wave_r.size
             waves += 1
-        run.advance(mat, v_bound, v_bound, 2e-3)
+        run.advance(mat, v_ref, v_bound, 2e-3)
     return waves, v_bound
 
 
@@ -189,8 +190,8 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
     and the fastest possible impact (:func:`md.integrate.contact_time_step`).
 
     ``protocol="sequential"`` (default, the source's) drops the grains in waves of ``wave``
-    grains at random x, y (a wave covers at most a fifth of the floor, so each grain lands as
-    if dropped alone), each wave with the speed of a fall from ``drop_height``
+    grains at random x, y (by default a wave covers a fifth of the floor in projection; the
+    source drops them one at a time), each wave with the speed of a fall from ``drop_height``
     (:func:`drop_speed`); ``"lattice"`` releases all grains at once from a jittered lattice.
 
     Accelerated deposition: with ``fall_stiffness_factor < 1`` the contacts are that much
@@ -270,15 +271,20 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
 
     bar = tqdm(desc="settle", unit="chunk", disable=not progress)
     extra = {}
+    # The restitution e_n holds at the terminal speed (the same contact law whatever the drop
+    # height), without drag at the free fall from the drop height or the top of the lattice.
+    v_terminal = GRAVITY / drag if drag > 0 else np.inf
     if protocol == "sequential":
-        waves, v_bound = _sequential(run, rng, radii, soft, wave, drop_height, d)
+        v_ref = min(v_terminal, np.sqrt(2.0 * GRAVITY * drop_height)) if drag == 0 \
+            else v_terminal
+        waves, v_bound = _sequential(run, rng, radii, soft, wave, drop_height, d, v_ref)
         extra = {"wave": wave, "waves": waves, "drop_height_m": drop_height}
     else:
-        v_bound = _lattice(run, rng, radii, d, lx, ly)
-        if drag > 0:
-            v_bound = min(v_bound, GRAVITY / drag)
+        v_fall = _lattice(run, rng, radii, d, lx, ly)
+        v_bound = min(v_fall, v_terminal)
+        v_ref = v_terminal if drag > 0 else v_fall
+    extra["restitution_speed_m_s"] = float(v_ref)
     e_scale = 4.0 / 3.0 * np.pi * r_max**3 * material.density * GRAVITY * d
-    v_ref = max(v_bound, 1e-3)
     # Falling and settling (impacts up to v_bound), then, after softer falling, at rest again
     # with the true stiffness (the time step from the contacts and the grains' own speeds).
     stages = [(soft, v_bound, 2e-3, 0.01)]
