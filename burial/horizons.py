@@ -175,10 +175,11 @@ def horizon_paths(horizon, time_before_present, depth, temperature) -> HorizonPa
 
 def _check_order(paths):
     """Older horizons lie at least as deep as younger ones wherever both exist."""
-    by_age = sorted(paths, key=lambda p: -p[2][0])        # oldest first
-    for older, younger in zip(by_age, by_age[1:]):
-        if older[2][0] == younger[2][0]:
-            continue                          # deposited together: no order to keep
+    ages = sorted({p[2][0] for p in paths}, reverse=True)  # oldest first
+    groups = [[p for p in paths if p[2][0] == age] for age in ages]
+    # Horizons deposited together keep no order among themselves; each one must lie above
+    # every horizon of the next older age (and so, by transitivity, of all older ages).
+    for older, younger in ((o, y) for a, b in zip(groups, groups[1:]) for o in a for y in b):
         # Compare on the union of both horizons' nodes while both exist (both linear between).
         times = np.union1d(older[2], younger[2])
         times = times[times <= younger[2][0]]
