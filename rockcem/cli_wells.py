@@ -75,6 +75,9 @@ def _fit(args) -> int:
     from .scene import load_scene, scene_path
     from .wellfit import fit_scene
 
+    if Path(args.scene).suffix == ".nc":
+        raise ValueError(f"{args.scene}: fit takes a scene (TOML file or shipped name), not "
+                         "the netCDF output of a run")
     scene = load_scene(args.scene)
     well = _well(args)
     free = _free_keys(args.free)                  # bounds None: rockcem.wellfit's defaults

@@ -74,6 +74,9 @@ def test_cli_compare_fit_and_plot(las, tmp_path, monkeypatch, capsys):
                  "sandstone.nope"]) == 2
     assert "not a key of this scene" in capsys.readouterr().err
     assert main(["compare", "s.nc", "--well", "missing.las"]) == 2
+    capsys.readouterr()
+    assert main(["fit", "s.nc", "--well", str(las), "--free", "sandstone.beta"]) == 2
+    assert "not the netCDF output of a run" in capsys.readouterr().err
     assert main(["fit", "synthetic_basin_horizons", "--well", str(las), "--free",
                  "path.gradient", "--model", "patchy_cement"]) == 2
     assert "does not apply to a path of kind 'horizons'" in capsys.readouterr().err
