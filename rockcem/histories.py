@@ -76,7 +76,8 @@ def read_history_table(path, kind) -> dict:
         table = pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str,
                             keep_default_na=False)
     except (OSError, ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
-        raise ValueError(f"history table {path.name}: not a readable CSV file: {exc}") from None
+        raise ValueError(f"history table {path.name}: not a readable CSV file: "
+                         f"{str(exc).strip()}") from None
     found = {}
     for header in table.columns:
         m = _HEADER.match(str(header))

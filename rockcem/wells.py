@@ -189,7 +189,7 @@ def read_las(path, *, depth_offset=0.0):
             warnings.simplefilter("ignore")
             las = lasio.read(str(path), ignore_header_errors=False)
     except Exception as exc:                # lasio raises KeyError, LASHeaderError, ...
-        raise ValueError(f"{source} is not a readable LAS file: {exc}") from None
+        raise ValueError(f"{source} is not a readable LAS file: {str(exc).strip()}") from None
     finally:
         log.setLevel(level)
     version = las.version.get("VERS")
@@ -217,7 +217,7 @@ def _csv_rows(path, source):
             lines = [(i, row) for i, row in enumerate(csv.reader(
                 line.partition("#")[0] for line in fh), 1) if any(f.strip() for f in row)]
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{source} is not a readable CSV file: {exc}") from None
+        raise ValueError(f"{source} is not a readable CSV file: {str(exc).strip()}") from None
     if not lines:
         raise ValueError(f"{source}: empty file")
     width = len(lines[0][1])
@@ -243,7 +243,7 @@ def read_csv(path, *, null=-999.25, depth_offset=0.0):
     try:
         table = pd.read_csv(path, comment="#", skipinitialspace=True, index_col=False)
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{source} is not a readable CSV file: {exc}") from None
+        raise ValueError(f"{source} is not a readable CSV file: {str(exc).strip()}") from None
     columns = []
     for j, header in enumerate(table.columns):
         match = _HEADER.match(str(header))

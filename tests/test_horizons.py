@@ -235,3 +235,16 @@ def test_illite_on_a_hiatus_and_uplift_path_matches_a_stiff_ode():
                     t_eval=t_nodes, max_step=0.25)
     np.testing.assert_allclose(r, sol.y[0], rtol=1e-7)
     assert r[4] < r[2] and r[5] < r[4]         # reacts on through the cool hiatus, a little
+
+
+def test_cli_bad_history_table_one_line(sandstone_raw, tmp_path, capsys):
+    from rockcem.cli import main
+
+    (tmp_path / "w.csv").write_text("horizon,age (Ma),depth (m),temperature (degC)\n"
+                                    "A,10,0,15\nA,0,500,30,7\n")
+    scene = tmp_path / "s.toml"
+    scene.write_text('name = "s"\nlithology = "sandstone"\n[path]\nkind = "horizons"\n'
+                     'table = "w.csv"\n[models.hs_gassmann]\n')
+    assert main(["run", str(scene), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "w.csv" in err and "line 3" in err, err
