@@ -47,14 +47,14 @@ ALIASES = {
                  ("NPOR", "neutron")),
 }
 
-#: Understood units (upper case, spaces removed) of each kind of curve, with the factor to the
-#: project's unit. Slownesses map to the factor ``c`` of :math:`v = c/\Delta t` in km/s.
+#: Understood units (upper case, spaces removed, the micro sign ``µ`` or ``μ`` read as ``u``)
+#: of each kind of curve, with the factor to the project's unit. Slownesses map to the factor
+#: ``c`` of :math:`v = c/\Delta t` in km/s.
 UNITS = {
     "depth": {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
               "FT": 0.3048, "F": 0.3048, "FEET": 0.3048, "FOOT": 0.3048},
-    "slowness": {"US/FT": 304.8, "USEC/FT": 304.8, "US/F": 304.8, "µS/FT": 304.8,
-                 "μS/FT": 304.8, "US/M": 1000.0, "USEC/M": 1000.0, "µS/M": 1000.0,
-                 "μS/M": 1000.0},
+    "slowness": {"US/FT": 304.8, "USEC/FT": 304.8, "US/F": 304.8, "US/M": 1000.0,
+                 "USEC/M": 1000.0},
     "velocity": {"KM/S": 1.0, "M/S": 1e-3, "FT/S": 0.3048e-3},
     "density": {"G/CC": 1.0, "G/CM3": 1.0, "G/CM^3": 1.0, "GM/CC": 1.0, "G/C3": 1.0,
                 "KG/M3": 1e-3, "KG/M^3": 1e-3},
@@ -70,7 +70,9 @@ _RANGES = {"vp": (0.1, 10.0), "vs": (0.01, 7.0), "density": (0.5, 4.0),
 
 
 def _unit_key(unit) -> str:
-    return re.sub(r"\s+", "", str(unit or "")).upper()
+    # The micro sign (U+00B5) and the Greek mu (U+03BC) both upper-case to U+039C: read as u.
+    key = re.sub(r"\s+", "", str(unit or ""))
+    return key.replace("\u00b5", "u").replace("\u03bc", "u").upper()
 
 
 def _factor(where, kind, unit):

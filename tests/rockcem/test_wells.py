@@ -159,3 +159,11 @@ def test_misfit_counts_the_deepest_sample():
     np.testing.assert_allclose(rows.bias, (-1.0 / 11.0 + 0.25) / 3.0, rtol=1e-14)
     split = well_misfit(scene, well, intervals=[100.0, 200.0, 300.0])
     assert split.n.tolist() == [1, 2]
+
+
+def test_micro_sign_and_greek_mu_in_slowness_units(tmp_path):
+    f = tmp_path / "mu.csv"
+    f.write_text("DEPT (m),DT (\u00b5s/ft),DTS [\u03bcs/m]\n1000,100,500\n")
+    ds = read_well(f)
+    np.testing.assert_allclose(ds.vp.values, [FOOT / 100e-6 / 1000.0], rtol=1e-15)
+    np.testing.assert_allclose(ds.vs.values, [2.0], rtol=1e-15)
