@@ -19,7 +19,7 @@ from .bonded import (BondedModuli, BondedSystem, bond_stiffness, bonded_acoustic
                      bonded_moduli, bonded_system)
 from .bonded import static_moduli as bonded_static_moduli
 from .cement import (HARD_CEMENT, SOFT_CEMENT, CementLattice, CementMaterial, cement_lattice,
-                     grow_cement)
+                     cement_sweep, grow_cement)
 from .contact import QUARTZ, GrainMaterial
 from .neighbors import build_neighbors, needs_rebuild
 from .protocols import compact, coordination_number, porosity, prepare_pack, settle
@@ -30,7 +30,7 @@ from .state import Pack, load_pack, save_pack
 __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_rebuild", "settle",
            "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack",
            "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
-           "grow_cement", "AcousticSystem", "acoustic_system", "cement_block", "pulse_test",
-           "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness", "bonded_system",
-           "bonded_static_moduli", "bonded_moduli", "bonded_acoustic_system", "calibrate",
-           "write_calibration"]
+           "grow_cement", "cement_sweep", "AcousticSystem", "acoustic_system", "cement_block",
+           "pulse_test", "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness",
+           "bonded_system", "bonded_static_moduli", "bonded_moduli", "bonded_acoustic_system",
+           "calibrate", "write_calibration"]

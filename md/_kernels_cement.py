@@ -172,7 +172,7 @@ def _heap_pop(heap, size):
 
 
 @njit(cache=True)
-def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells, heap):
+def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells, heap, order):
     """Contact cement (García & Medina, Sect. III C) up to ``target`` cells.
 
     1. Contact cells (``kind == contact_kind``) by increasing key, until ``target`` or none left.
@@ -183,7 +183,8 @@ def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells,
 
     ``cells`` (uint8, n) starts ``EMPTY`` and ends ``CEMENTED`` where cemented (one state array
     rather than two flags: one cache line per neighbour look-up); ``heap`` (uint64, n) is
-    scratch. Returns the number of cemented cells. O(n log n).
+    scratch; ``order[i]`` (int64, >= target) gets the i-th cell cemented. Returns the number of
+    cemented cells. O(n log n).
     """
     n = levels.size
     count = 0
@@ -193,6 +194,7 @@ def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells,
         c = np.int64(sorted_keys[r] & _LOW32)
         if kind[c] == contact_kind:
             cells[c] = CEMENTED
+            order[count] = c
             count += 1
     if count >= target:
         return count
@@ -214,6 +216,7 @@ def contact_growth(levels, kind, nbrs, sorted_keys, target, contact_kind, cells,
             key, size = _heap_pop(heap, size)
             c = np.int64(key & _LOW32)
         cells[c] = CEMENTED
+        order[count] = c
         count += 1
         for q in range(6):
             nb = nbrs[c, q]
@@ -323,7 +326,7 @@ def pore_body_start(dist, nbrs, seeds, cells, tree, offsets, fanout, floor):
 
 @njit(cache=True)
 def pore_body_growth(dist, nbrs, cells, tree, offsets, fanout, floor, target, uniforms,
-                     restart, state):
+                     restart, state, order):
     """Pore-body growth (García & Medina, Sect. III E), resumable.
 
     While fewer than ``target`` cells are cemented: pick a frontier cell with probability
@@ -334,6 +337,7 @@ def pore_body_growth(dist, nbrs, cells, tree, offsets, fanout, floor, target, un
 
     ``cells`` (uint8, n): ``EMPTY``, ``FRONTIER`` or ``CEMENTED``. ``state`` (int64, 4):
     cemented count, frontier size, pointer into ``restart``, uniforms used by this call.
+    ``order[i]`` (int64, >= target) gets the i-th cell cemented (the seeds are the caller's).
     Returns 0 when ``target`` is reached, 1 when ``uniforms`` ran out, 2 when the frontier is
     empty and ``restart`` is empty (the caller supplies it and calls again with the unused
     uniforms).
@@ -360,6 +364,7 @@ def pore_body_growth(dist, nbrs, cells, tree, offsets, fanout, floor, target, un
             n_front -= 1
             _tree_set(tree, offsets, fanout, c, 0.0)
         cells[c] = CEMENTED
+        order[count] = c
         count += 1
         for q in range(6):
             nb = nbrs[c, q]

@@ -292,7 +292,7 @@ def growth_lattices():
 
 
 def test_neighbour_map_matches_the_definition(growth_lattices):
-    from md.cement import _neighbour_map
+    from md.growth import _neighbour_map
 
     for lat in growth_lattices:
         nbrs = _neighbour_map(lat)
@@ -301,7 +301,7 @@ def test_neighbour_map_matches_the_definition(growth_lattices):
 
 
 def test_distance_levels_keep_the_order_and_the_ties(rng):
-    from md.cement import _distance_levels
+    from md.growth import _distance_levels
 
     values = np.array([-3.5, -1e-30, -0.0, 0.0, 1e-30, 2.0, np.inf, -np.inf], np.float32)
     d = rng.choice(values, 200).astype(np.float32)
@@ -333,7 +333,7 @@ def test_coating_cement_equals_the_sorted_reference(growth_lattices):
 
 
 def test_pore_body_cement_equals_the_python_twin(growth_lattices, monkeypatch):
-    import md.cement
+    import md.growth
 
     for lat in growth_lattices:
         for s, seed in ((0.002, 0), (0.3, 1), (1.0, 2)):
@@ -343,7 +343,7 @@ def test_pore_body_cement_equals_the_python_twin(growth_lattices, monkeypatch):
     # Chunks of uniforms handed to the kernel: the result does not depend on their size.
     lat = growth_lattices[3]
     expected = grow_cement(lat, 0.9, "pore_body", seed=7)
-    monkeypatch.setattr(md.cement, "_PORE_BODY_CHUNK", 3)
+    monkeypatch.setattr(md.growth, "_PORE_BODY_CHUNK", 3)
     np.testing.assert_array_equal(grow_cement(lat, 0.9, "pore_body", seed=7), expected)
 
 
@@ -369,7 +369,7 @@ def test_sum_tree_picks_follow_the_weights(rng, fanout):
     from scipy.stats import chisquare
 
     from md._kernels_cement import _tree_set, tree_build, tree_pick, tree_picks
-    from md.cement import _sum_tree
+    from md.growth import _sum_tree
 
     n = 70
     weights = rng.integers(1, 20, n).astype(float)
@@ -398,7 +398,7 @@ def test_sum_tree_picks_follow_the_weights(rng, fanout):
 
 def test_sum_tree_never_picks_outside_the_frontier(rng):
     from md._kernels_cement import _tree_set, tree_pick
-    from md.cement import _sum_tree
+    from md.growth import _sum_tree
 
     # Weights spanning 30 orders of magnitude and many removals: rounding must not lead the
     # descent to a cell of zero weight.
@@ -442,3 +442,16 @@ def test_float32_distances_grow_the_same_cement_as_float64(rng, scheme):
         a = grow_cement(lat, sc, scheme, seed=4)
         b = grow_cement(exact, sc, scheme, seed=4)
         assert np.count_nonzero(a != b) <= 0.005 * 2 * a.sum()
+
+
+@pytest.mark.parametrize("scheme", ["contact", "coating", "pore_body", "pendular"])
+def test_one_growth_serves_a_saturation_sweep(lattice, scheme):
+    """cement_sweep (one growth, prefixes of its order) = grow_cement at every saturation."""
+    from md.cement import cement_order, cement_sweep
+
+    sats = [0.0, 0.003, 0.05, 0.2, 0.5]
+    sweep = cement_sweep(lattice, sats, scheme, seed=4)
+    for row, s in zip(sweep, sats):
+        assert np.array_equal(row, grow_cement(lattice, s, scheme, seed=4))
+    order = cement_order(lattice, 0.5, scheme, seed=4)
+    assert np.unique(order).size == order.size == round(0.5 * lattice.index.size)

@@ -1,0 +1,284 @@
+"""Cement growth on the lattice of :mod:`md.cement`: the contact, coating and pore-body schemes
+of García & Medina (Sects. III C–E) and the pendular contact cement of this project, as numba
+kernels (:mod:`md._kernels_cement`), O(n log n) in the number of pore cells. Every scheme is
+nested in the saturation, so one growth (:func:`cement_order`) serves a sweep
+(:func:`cement_sweep`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cement import CONTACT, SCHEMES, SURFACE, CementLattice
+
+__all__ = ["grow_cement", "cement_order", "cement_sweep"]
+
+
+#: Uniforms drawn from the growth stream per call of the pore-body kernel (the result does not
+#: depend on it: the kernel uses the stream in order and hands back what it did not use).
+_PORE_BODY_CHUNK = 1 << 16
+
+#: Smallest weight of a frontier cell in the pore-body scheme (cells at zero distance keep a
+#: tiny chance of being picked, and the frontier's total weight stays > 0).
+_WEIGHT_FLOOR = 1e-12
+
+#: Children per node of the pore-body sum tree (8 float64: one cache line).
+_TREE_FANOUT = 8
+
+
+def _neighbour_map(lat: CementLattice) -> np.ndarray:
+    """The 6 face neighbours of each pore cell as pore positions, shape (n, 6), int32.
+
+    Columns +x, -x, +y, -y, +z, -z (periodic in x and y); -1 for a solid cell or beyond the
+    bottom and top layers. One numba pass, O(n) (plus a scratch int32 array over the whole
+    lattice).
+    """
+    from ._kernels_cement import face_neighbours
+
+    nx, ny, nz = (int(s) for s in lat.shape)
+    index = np.ascontiguousarray(lat.index, dtype=np.int32)
+    where = np.empty(nx * ny * nz, dtype=np.int32)
+    nbrs = np.empty((index.size, 6), dtype=np.int32)
+    face_neighbours(index, nx, ny, nz, where, nbrs)
+    return nbrs
+
+
+def _distance_levels(distance) -> np.ndarray:
+    """uint32 levels with the order of ``distance``: equal distances, equal levels.
+
+    float32 distances (as :func:`cement_lattice` stores them) map bit for bit (O(n)); other
+    dtypes by rank (``np.unique``, O(n log n)).
+    """
+    from ._kernels_cement import float32_levels
+
+    levels = np.empty(distance.size, dtype=np.uint32)
+    if distance.dtype == np.float32:
+        bits = np.ascontiguousarray(distance + np.float32(0.0)).view(np.uint32)   # -0.0 -> +0.0
+        float32_levels(bits, levels)
+    else:
+        levels[:] = np.unique(distance, return_inverse=True)[1].reshape(-1)
+    return levels
+
+
+def _order_keys(levels) -> np.ndarray:
+    """uint64 keys ``level << 32 | cell``: their order is that of (distance, cell index)."""
+    from ._kernels_cement import order_keys
+
+    keys = np.empty(levels.size, dtype=np.uint64)
+    order_keys(levels, keys)
+    return keys
+
+
+def _pore_body_streams(seed):
+    """The three independent numpy Generators of the pore-body scheme: seeds, growth, restarts
+    (``SeedSequence(seed).spawn(3)``)."""
+    return tuple(np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(3))
+
+
+def _grow_contact(lat: CementLattice, target: int) -> np.ndarray:
+    from ._kernels_cement import contact_growth
+
+    n = lat.index.size
+    levels = _distance_levels(lat.distance)
+    sorted_keys = np.sort(_order_keys(levels))
+    nbrs = _neighbour_map(lat)
+    kind = np.ascontiguousarray(lat.kind)
+    cells = np.zeros(n, dtype=np.uint8)
+    order = np.empty(target, dtype=np.int64)
+    count = contact_growth(levels, kind, nbrs, sorted_keys, target, CONTACT, cells,
+                           np.empty(n, dtype=np.uint64), order)
+    if count != target:
+        raise RuntimeError(f"contact growth stopped at {count} of {target} cells")
+    return order
+
+
+def _sum_tree(n: int, fanout: int):
+    """Zeroed storage of the pore-body sum tree over ``n`` cells: the flat float64 array and
+    the offset of each level (level 0, the cell weights, at 0; the top level is one group of
+    ``fanout`` entries). See :mod:`md._kernels_cement`."""
+    offsets = []
+    total = 0
+    m = max(int(n), 1)
+    while True:
+        padded = -(-m // fanout) * fanout
+        offsets.append(total)
+        total += padded
+        if m <= fanout:
+            break
+        m = padded // fanout
+    return np.zeros(total), np.array(offsets, dtype=np.int64)
+
+
+def _grow_pore_body(lat: CementLattice, target: int, seed: int) -> np.ndarray:
+    from ._kernels_cement import pore_body_growth, pore_body_start
+
+    n = lat.index.size
+    seeds_rng, growth_rng, restart_rng = _pore_body_streams(seed)
+    surface = np.flatnonzero(lat.kind == SURFACE)
+    n_seeds = max(1, min(target, surface.size // 50 + 1))
+    seeds = seeds_rng.permutation(surface if surface.size else n)[:n_seeds]
+    dist = np.ascontiguousarray(lat.distance)
+    nbrs = _neighbour_map(lat)
+    cells = np.zeros(n, dtype=np.uint8)
+    tree, offsets = _sum_tree(n, _TREE_FANOUT)
+    n_front = pore_body_start(dist, nbrs, seeds, cells, tree, offsets, _TREE_FANOUT,
+                              _WEIGHT_FLOOR)
+    state = np.array([n_seeds, n_front, 0, 0], dtype=np.int64)
+    order = np.empty(target, dtype=np.int64)
+    order[:n_seeds] = seeds
+    restart = np.zeros(0, dtype=np.int64)
+    uniforms = np.zeros(0)
+    while True:
+        status = pore_body_growth(dist, nbrs, cells, tree, offsets, _TREE_FANOUT,
+                                  _WEIGHT_FLOOR, target, uniforms, restart, state, order)
+        if status == 0:
+            break
+        if status == 2:                        # frontier empty: the restart permutation, once
+            restart = restart_rng.permutation(n)
+            uniforms = uniforms[state[3]:]
+        else:
+            uniforms = growth_rng.random(min(_PORE_BODY_CHUNK, max(target - int(state[0]), 1)))
+    if state[0] != target:
+        raise RuntimeError(f"pore-body growth stopped at {state[0]} of {target} cells")
+    return order
+
+
+def _distance_order(distance, target: int) -> np.ndarray:
+    """The ``target`` cells of smallest (distance, cell index), in that order."""
+    keys = _order_keys(_distance_levels(distance))
+    if target < keys.size:
+        keys = np.partition(keys, target - 1)[:target]
+    keys.sort()
+    return (keys & np.uint64(0xFFFFFFFF)).astype(np.int64)
+
+
+def cement_order(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> np.ndarray:
+    """The pore cells in the order a scheme cements them, up to saturation :math:`S_c`.
+
+    Every scheme of :func:`grow_cement` is nested in :math:`S_c`, so one growth serves a
+    whole saturation sweep: ``grow_cement(lat, s, scheme, seed=seed)`` cements exactly
+    ``order[:round(s * n)]`` for every ``s`` up to ``saturation`` (tested), where ``order`` is
+    returned here. Parameters as :func:`grow_cement`.
+
+    Returns
+    -------
+    ndarray of int64
+        Pore positions (into ``lat.index``), ``round(S_c n)`` of them.
+    """
+    _check_growth(lat, saturation, scheme, seed)
+    n = lat.index.size
+    target = int(round(saturation * n))
+    if target == 0:
+        return np.zeros(0, dtype=np.int64)
+    if scheme in ("coating", "pendular"):
+        return _distance_order(lat.distance if scheme == "coating" else lat.distance2, target)
+    if scheme == "contact":
+        return _grow_contact(lat, target)
+    return _grow_pore_body(lat, target, int(seed))
+
+
+def cement_sweep(lat: CementLattice, saturations, scheme="contact", *, seed=0) -> np.ndarray:
+    """Cemented cells at each of ``saturations`` from one growth (:func:`cement_order`).
+
+    Returns
+    -------
+    ndarray of bool, shape (len(saturations), n)
+        Row ``k`` equals ``grow_cement(lat, saturations[k], scheme, seed=seed)``.
+    """
+    sat = np.atleast_1d(np.asarray(saturations, dtype=float))
+    if sat.ndim != 1 or sat.size == 0:
+        raise ValueError(f"saturations must be a non-empty 1-d sequence; got {saturations!r}")
+    order = cement_order(lat, float(sat.max()), scheme, seed=seed)
+    n = lat.index.size
+    out = np.zeros((sat.size, n), dtype=bool)
+    for k, s in enumerate(sat):
+        _check_growth(lat, s, scheme, seed)
+        out[k, order[:int(round(s * n))]] = True
+    return out
+
+
+def _check_growth(lat, saturation, scheme, seed):
+    if not 0.0 <= saturation <= 1.0:
+        raise ValueError(f"saturation must lie in [0, 1]; got {saturation}")
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {SCHEMES}; got {scheme!r}")
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
+    if int(round(saturation * lat.index.size)) == 0:
+        return
+    if scheme == "pendular" and lat.distance2 is None:
+        raise ValueError("the pendular scheme needs lat.distance2 (md.cement_lattice "
+                         "computes it)")
+    name = "distance2" if scheme == "pendular" else "distance"
+    if not np.all(np.isfinite(getattr(lat, name))):
+        raise ValueError(f"lat.{name} must be finite (distances to the grain surfaces, m)")
+
+
+def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> np.ndarray:
+    """Cement the pore cells of a lattice up to a saturation :math:`S_c` (fraction of pore cells).
+
+    Schemes (García & Medina, Sects. III C–E):
+
+    * ``"contact"`` (Sect. III C): the contact cells first (closest to the grains first), then
+      growth into the empty face neighbours of the cement, always the one closest to a grain
+      surface next; when none is left (pores not connected to the cement), the empty cell
+      closest to a grain seeds the growth again;
+    * ``"coating"`` (Sect. III D): cells by increasing distance to the grain surface (an even
+      coat);
+    * ``"pendular"`` (this project's contact cement that converges with :math:`\\Omega`): cells
+      by increasing distance to the *second*-nearest grain surface (``lat.distance2``; ties by
+      cell index), so the cement fills the set :math:`\\{d_2 < \\delta\\}` — pendular rings
+      around every contact (and the narrowest throats), the cement body of Dvorkin et al.'s
+      scheme 1 — whose shape is a fixed region of space, not of cells. The source's
+      ``"contact"`` scheme fills the contact cells (those meeting two grains: a neck of height
+      about :math:`c_w`) and then grows the face neighbours *closest to a grain*, which at fine
+      resolution is a film of one cell spreading over the grain surfaces: on a 4 × 4 × 12 pack
+      at :math:`S_c = 0.1` its mean distance to the grains falls from 0.038 R to 0.024 R and
+      the grain surface it covers rises from 23 % to 38 % between :math:`\\Omega` 4 and 12
+      (``benchmarks/md_omega_convergence.py``), so its moduli do not converge in
+      :math:`\\Omega`;
+    * ``"pore_body"`` (Sect. III E): ``max(1, min(N, n_surface // 50 + 1))`` random surface
+      cells as seeds (``N = round(S_c n)``; any cells if there are no surface cells), then
+      growth into empty face neighbours of the cement chosen at random with probability
+      proportional to their distance to the grains, ``max(d, 1e-12 m)`` (cement grows into pore
+      bodies); when none is left, a random empty cell seeds the growth again.
+
+    Ties in distance are broken by the cell's position in ``lat.index`` (smaller first), so the
+    contact, coating and pendular schemes are deterministic. All are nested: for a fixed ``seed``,
+    the cells cemented at :math:`S_{c1} < S_{c2}` are a subset of those at :math:`S_{c2}`
+    (pore body too, since the seeds are a prefix of one random permutation and the growth
+    uses one random stream in order).
+
+    Cost: O(n log n) for n pore cells; the contact scheme keeps a binary heap of the empty
+    face neighbours of the cement, keyed on (distance, cell index); the pore-body scheme a sum
+    tree over all cells (weight ``max(d, 1e-12)`` in the frontier, 0 elsewhere), O(log n) per
+    pick (numba kernels in :mod:`md._kernels_cement`).
+
+    Randomness (pore body only): ``numpy.random.SeedSequence(seed).spawn(3)`` gives three
+    independent ``numpy.random.Generator`` streams: the seeds (the first of a random
+    permutation of the surface cells), the growth (one uniform per pick, drawn in chunks and
+    used in order) and the restarts (a random permutation of all cells, drawn only if the
+    frontier empties; the next empty cell in it is a uniform choice among the empty cells).
+    The result depends on ``seed`` only (not on the chunk size). This stream differs from the
+    one of versions before the numba kernels (``rng.choice`` on one Generator), so pore-body
+    cells for a given seed differ from those versions; the distribution is the same.
+
+    Parameters
+    ----------
+    lat : CementLattice
+        Its ``distance`` must be finite.
+    saturation : float
+        :math:`S_c`, in [0, 1].
+    scheme : {"contact", "coating", "pore_body", "pendular"}
+    seed : int, keyword-only
+        Random seed of the pore-body scheme, ``>= 0``.
+
+    Returns
+    -------
+    ndarray of bool
+        Cemented pore cells (aligned with ``lat.index``); ``round(S_c n)`` of them.
+    """
+    order = cement_order(lat, saturation, scheme, seed=seed)
+    cemented = np.zeros(lat.index.size, dtype=bool)
+    cemented[order] = True
+    return cemented
