@@ -119,9 +119,12 @@ def well_template(ds, well, *, fig=None, **template):
     ax = fig.axes[0]
     impedance = well.density.values * well.vp.values
     ratio = well.vp.values / well.vs.values
+    name = str(well.attrs.get("well") or "well")
     ax.plot(impedance, ratio, linestyle="none", marker=".", markersize=2.5,
-            color=_WELL_COLOUR, alpha=0.6, zorder=2.0, gid="well",
-            label=str(well.attrs.get("well") or "well"))
+            color=_WELL_COLOUR, alpha=0.6, zorder=2.0, gid="well", label=name)
+    n = int(np.isfinite(impedance * ratio).sum())
+    ax.text(0.02, 0.02, f"grey dots: well {name} ({n} samples)", transform=ax.transAxes,
+            fontsize=7.0, color="#555555", ha="left", va="bottom")
     return fig
 
 
