@@ -85,6 +85,21 @@ def _factor(where, kind, unit):
     return UNITS[kind][key]
 
 
+def _numbers(where, values):
+    """A curve as floats, or a ValueError naming the first value that is not a number."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        arr = np.asarray(values, dtype=object).ravel()
+        for row, value in enumerate(arr, 1):
+            try:
+                float(value)
+            except (TypeError, ValueError):
+                raise ValueError(f"{where}: {value!r} in data row {row} is not a "
+                                 "number") from None
+        raise
+
+
 def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     """The Dataset from ``columns = [(mnemonic, unit, values), ...]``, depth first."""
     from .variables import build_dataset
@@ -93,7 +108,7 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     if _unit_key(name) not in DEPTH_NAMES:
         raise ValueError(f"{source}: no depth curve: the first curve is {name!r}; it must be "
                          f"one of {', '.join(DEPTH_NAMES)}")
-    depth = np.asarray(depth, dtype=float)
+    depth = _numbers(f"{source}: depth curve {name!r}", depth)
     if depth.size == 0:
         raise ValueError(f"{source}: no data rows")
     if not np.all(np.isfinite(depth)) or np.any(depth == null):
@@ -108,17 +123,23 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
         row = int(order[k])
         raise ValueError(f"{source}: depth {depth[k]:g} m repeats "
                          f"(data row {row + 1}); depths must be distinct")
-    found = {_unit_key(n): (n, u, v) for n, u, v in columns[1:]}
+    found = {}
+    for n, u, v in columns[1:]:                   # lasio names a repeated DT "DT:1", "DT:2"
+        found.setdefault(_unit_key(re.sub(r":\d+$", "", str(n))), []).append((n, u, v))
     data = {}
     for var, names in ALIASES.items():
         hit = next(((m, kind) for m, kind in names if m in found), None)
         if hit is None:
             continue
         mnemonic, kind = hit
-        label, unit, values = found[mnemonic]
+        if len(found[mnemonic]) > 1:
+            raise ValueError(f"{source}: curve {mnemonic} appears {len(found[mnemonic])} times "
+                             f"({', '.join(c[0] for c in found[mnemonic])}); keep the one to "
+                             "use")
+        label, unit, values = found[mnemonic][0]
         where = f"{source}: curve {label!r}"
         factor = _factor(where, kind, unit)
-        raw = np.asarray(values, dtype=float)[order]
+        raw = _numbers(where, values)[order]
         raw = np.where(raw == null, np.nan, raw)
         if kind == "slowness":
             if np.any(raw <= 0.0):
@@ -204,7 +225,7 @@ def read_las(path, *, depth_offset=0.0):
     null = las.well.get("NULL")
     null = float(null.value) if null is not None and str(null.value).strip() else -999.25
     well = las.well.get("WELL")
-    columns = [(c.mnemonic, c.unit, np.asarray(c.data, dtype=float)) for c in las.curves]
+    columns = [(c.mnemonic, c.unit, c.data) for c in las.curves]
     return _dataset(source, columns, well=getattr(well, "value", "") or "", null=null,
                     depth_offset=depth_offset)
 
@@ -252,14 +273,8 @@ def read_csv(path, *, null=-999.25, depth_offset=0.0):
         if match is None:
             raise ValueError(f"{source}: column {j + 1} header {header!r} is not 'NAME' or "
                              "'NAME (unit)'")
-        try:
-            values = pd.to_numeric(table[header], errors="raise").to_numpy(dtype=float)
-        except (ValueError, TypeError):
-            bad = pd.to_numeric(table[header], errors="coerce").isna() & table[header].notna()
-            row = int(np.flatnonzero(bad.to_numpy())[0])
-            raise ValueError(f"{source}: column {match.group(1)!r}, data row {row + 1}: "
-                             f"{table[header].iloc[row]!r} is not a number") from None
-        columns.append((match.group(1), match.group(2) or "", values))
+        # Converted to numbers only if used (a text column such as a lithology is skipped).
+        columns.append((match.group(1), match.group(2) or "", table[header].to_numpy()))
     if not columns:
         raise ValueError(f"{source}: no columns")
     return _dataset(source, columns, null=null, depth_offset=depth_offset)

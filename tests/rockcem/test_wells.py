@@ -167,3 +167,22 @@ def test_micro_sign_and_greek_mu_in_slowness_units(tmp_path):
     ds = read_well(f)
     np.testing.assert_allclose(ds.vp.values, [FOOT / 100e-6 / 1000.0], rtol=1e-15)
     np.testing.assert_allclose(ds.vs.values, [2.0], rtol=1e-15)
+
+
+def test_text_curves_skipped_repeated_curves_refused(tmp_path):
+    las = lasio.LASFile()
+    las.append_curve("DEPT", np.array([1000.0, 1001.0]), unit="M")
+    las.append_curve("DT", np.array([100.0, 101.0]), unit="US/FT")
+    las.append_curve("LITH", np.array(["SAND", "SHALE"], dtype=object), unit="")
+    las.write(str(tmp_path / "lith.las"), version=2.0, wrap=False)
+    np.testing.assert_allclose(read_well(tmp_path / "lith.las").vp, [3.048, 304.8 / 101.0],
+                               rtol=1e-15)
+    las.append_curve("DT", np.array([110.0, 111.0]), unit="US/FT")   # lasio: DT:1, DT:2
+    las.write(str(tmp_path / "dup.las"), version=2.0, wrap=False)
+    with pytest.raises(ValueError, match=r"dup.las: curve DT appears 2 times \(DT:1, DT:2\)"):
+        read_well(tmp_path / "dup.las")
+    f = tmp_path / "w.csv"
+    f.write_text("DEPT (m),DT (us/ft),LITH\n1000,100,SAND\n1010,abc,SHALE\n")
+    with pytest.raises(ValueError, match=r"w.csv: curve 'DT': 'abc' in data row 2 is not a "
+                                         r"number"):
+        read_well(f)
