@@ -46,7 +46,10 @@ def drop_speed(height, drag, gravity=GRAVITY):
     def fallen(v):
         return -v / drag - v_t / drag * np.log1p(-v / v_t) - height
 
-    return float(brentq(fallen, 0.0, v_t * (1.0 - 1e-15), xtol=1e-15, rtol=1e-13))
+    top = v_t * (1.0 - 1e-15)
+    if fallen(top) <= 0.0:                  # terminal speed to round-off
+        return float(v_t)
+    return float(brentq(fallen, 0.0, top, xtol=1e-15, rtol=1e-13))
 
 
 def _mean_volume(r_min, r_max):

@@ -84,6 +84,8 @@ def test_drop_speed_against_the_integrated_fall():
                     rtol=1e-12, atol=1e-15)
     assert drop_speed(h, k) == pytest.approx(sol.y_events[0][0][0], rel=1e-8)
     assert drop_speed(h, 0.0) == pytest.approx(np.sqrt(2 * 9.81 * h), rel=1e-14)
+    # A long fall through a viscous fluid ends at the terminal speed g / k.
+    assert drop_speed(1.0, 500.0) == pytest.approx(9.81 / 500.0, rel=1e-14)
     with pytest.raises(ValueError, match="height"):
         drop_speed(-1.0, k)
 
