@@ -12,8 +12,9 @@ listed. Sonic logs are slownesses (``DT`` and friends) and become velocities,
 is an apparent porosity in the units of a calibration matrix; it is used only where no total
 porosity curve is present, and the variable says so in its ``comment``.
 
-Units come from the file: the ``~Curve`` section of a LAS file, ``NAME (unit)`` or
-``NAME [unit]`` column headers of a CSV file. A curve that the reader uses and whose unit is
+Units come from the file: the ``~Curve`` section of a LAS file (for a depth curve without
+one, the unit of ``STRT`` in ``~Well``), ``NAME (unit)`` or ``NAME [unit]`` column headers of
+a CSV file. A curve that the reader uses and whose unit is
 missing or not in :data:`UNITS` is an error — a log is never guessed to be in percent or in feet.
 Null values (the LAS ``NULL``, default ``-999.25``) and empty CSV cells become NaN.
 """
@@ -226,6 +227,9 @@ def read_las(path, *, depth_offset=0.0):
     null = float(null.value) if null is not None and str(null.value).strip() else -999.25
     well = las.well.get("WELL")
     columns = [(c.mnemonic, c.unit, c.data) for c in las.curves]
+    start = las.well.get("STRT")
+    if not str(columns[0][1] or "").strip() and start is not None and str(start.unit).strip():
+        columns[0] = (columns[0][0], start.unit, columns[0][2])    # depth unit from ~Well STRT
     return _dataset(source, columns, well=getattr(well, "value", "") or "", null=null,
                     depth_offset=depth_offset)
 

@@ -186,3 +186,14 @@ def test_text_curves_skipped_repeated_curves_refused(tmp_path):
     with pytest.raises(ValueError, match=r"w.csv: curve 'DT': 'abc' in data row 2 is not a "
                                          r"number"):
         read_well(f)
+
+
+def test_depth_unit_from_the_start_depth_when_the_curve_has_none(tmp_path):
+    f = _las(tmp_path / "d.las", [("DEPT", "FT", [1000.0, 1010.0]),
+                                  ("DT", "US/FT", [100.0, 90.0])])
+    f.write_text(f.read_text().replace("DEPT.FT", "DEPT.  "))
+    np.testing.assert_allclose(read_well(f).depth, [304.8, 307.848], rtol=1e-15)
+    f.write_text(f.read_text().replace("STRT.FT", "STRT.  ").replace("STOP.FT", "STOP.  ")
+                 .replace("STEP.FT", "STEP.  "))
+    with pytest.raises(ValueError, match="depth curve 'DEPT': no unit given"):
+        read_well(f)
