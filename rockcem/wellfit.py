@@ -23,7 +23,10 @@ logs of different scatter (a porosity log at 15 % beside a sonic log at 2 %) wou
 uncertainties of the parameters that only the sonic logs constrain by the ratio of the
 scatters; and weights taken from the noisy log itself (:math:`m/o - 1`) bias the model low by
 about :math:`2 s_v^2` (0.1 % of Vp at 2 % scatter), which hundreds of samples turn into most
-of a standard error. Weights from the first model have neither fault.
+of a standard error. Weights from the first model have neither fault. Either way the
+samples are taken as independent: residuals of a real log are correlated over the tool's
+vertical resolution and over the depths a model misses, so that the standard errors are then
+lower bounds (fitting every n-th sample, or the logs averaged over intervals, tests it).
 
 A parameter is reported *unidentifiable* when its standard error is infinite or wider than its
 bounds, or when it is correlated with another by :math:`|r| > 0.999`: the logs then fix at
