@@ -318,10 +318,16 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
             raise ValueError(f"free parameter {key!r} belongs to a model the fitted logs "
                              f"({', '.join(variables)}) do not use")
     # With model parameters only free, the rock state (burial path, kinetics, compaction,
-    # density) is the same for every trial: computed once and handed to each trial's pipeline.
-    rock = _rock_state(reduced) if models_only else {}
+    # density) is the same for every trial: computed once and handed to each trial's pipeline;
+    # with no path key free, the burial path (a history table read once) is.
     start = _Pipeline(reduced)
     scene_depth = start.now(start.path.depth)
+    if models_only:
+        rock = _rock_state(reduced)
+    elif not any(k.startswith("path.") for k in params):
+        rock = {k: v for k, v in start.__dict__.items() if k in ("path", "history")}
+    else:
+        rock = {}
     lo = max(float(scene_depth.min()), float(well.depth.min()))
     hi = min(float(scene_depth.max()), float(well.depth.max()))
     if depth is not None:
@@ -341,11 +347,10 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     observed = {v: well[v].values[masks[v]] for v in variables}
 
     def trial(values):
-        """The reduced scene at trial values; model parameters set without validating the
-        whole scene again (which would re-read a history table at every trial; the model
-        functions check their own inputs)."""
-        if not models_only:
-            return reduced.replace(**values)
+        """The reduced scene at trial values, set without validating the whole scene again
+        (which would re-read a history table at every trial): the scene schema checks only
+        that a value is a finite number, and the burial and model functions check their own
+        ranges. The fitted scene is validated (``reduced.replace``)."""
         sections = dict(reduced.sections)
         for key, value in values.items():
             section, _, name = key.rpartition(".")
