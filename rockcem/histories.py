@@ -7,8 +7,9 @@ file, then to the working directory) or inline (``horizon``, ``time``, ``depth``
 CSV columns, units in the header (``name (unit)`` or ``name [unit]``), ``#`` comments allowed:
 
 - ``kind = "horizons"``: ``horizon``, ``time`` (or ``age``; Myr before present, ``Myr`` or
-  ``Ma``), ``depth`` (``m`` or ``ft``), ``temperature`` (``degC``, ``C``, ``°C`` or ``K``), one
-  row per horizon and time (:func:`burial.horizons.horizon_paths`).
+  ``Ma``), ``depth`` (``m`` or ``ft``, spelt as :data:`rockcem.wells.UNITS` lists them),
+  ``temperature`` (``degC``, ``C``, ``°C`` or ``K``), one row per horizon and time
+  (:func:`burial.horizons.horizon_paths`).
 - ``kind = "nodes"``: ``time`` (Myr since deposition), ``depth``, ``temperature``: one history
   every depth follows (:func:`burial.horizons.shifted_path`).
 
@@ -23,6 +24,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+
+from .wells import UNITS
 
 __all__ = ["PATH_KINDS", "TableHistory", "read_history_table", "scene_history"]
 
@@ -39,7 +42,7 @@ _COLUMNS = {"horizons": ("horizon", "time", "depth", "temperature"),
             "nodes": ("time", "depth", "temperature")}
 _UNITS = {
     "time": {"MYR": (1.0, 0.0), "MA": (1.0, 0.0)},
-    "depth": {"M": (1.0, 0.0), "FT": (0.3048, 0.0)},
+    "depth": {key: (factor, 0.0) for key, factor in UNITS["depth"].items()},  # as read_well
     "temperature": {"DEGC": (1.0, 0.0), "C": (1.0, 0.0), "°C": (1.0, 0.0),
                     "DEGREE_CELSIUS": (1.0, 0.0), "K": (1.0, -273.15)},
 }

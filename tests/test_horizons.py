@@ -248,3 +248,14 @@ def test_cli_bad_history_table_one_line(sandstone_raw, tmp_path, capsys):
     assert main(["run", str(scene), "-q"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "w.csv" in err and "line 3" in err, err
+
+
+def test_history_depth_units_spelt_as_the_well_reader_takes_them(tmp_path):
+    from rockcem.histories import read_history_table
+
+    for unit, factor in (("feet", 0.3048), ("F", 0.3048), ("metres", 1.0)):
+        f = tmp_path / "h.csv"
+        f.write_text(f"horizon,age (Ma),depth ({unit}),temperature (degC)\nA,10,0,15\n"
+                     "A,0,1000,25\n")
+        np.testing.assert_array_equal(read_history_table(f, "horizons")["depth"],
+                                      [0.0, 1000.0 * factor])
