@@ -60,6 +60,8 @@ def test_cli_compare_fit_and_plot(las, tmp_path, monkeypatch, capsys):
     assert "patchy_cement" in out and "hs_gassmann" in out and "1500" in out
     assert main(["plot", "s.nc", "--well", str(las)]) == 0
     assert (tmp_path / "s_depth_well.png").stat().st_size > 0
+    assert main(["plot", "s.nc", "--well", str(las), "--kind", "template"]) == 0
+    assert (tmp_path / "s_template_well.png").stat().st_size > 0
     assert main(["fit", "synthetic_basin_horizons", "--well", str(las), "--model",
                  "patchy_cement", "--log", "vp", "--log", "vs", "--free",
                  "models.patchy_cement.coordination_number", "--free",
