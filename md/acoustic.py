@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -158,8 +159,26 @@ class AcousticSystem:
                 self.bond_gn, self.bond_gt, self.lattice_neighbors, self.n_grains,
                 _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt)
 
-    def forces(self, u, v=None) -> np.ndarray:
-        """Bond forces :math:`-(K u + D v)` on every particle, shape (n, 3), N."""
+    @cached_property
+    def gather_tables(self):
+        """Per-particle tables of the multi-threaded kernels (:mod:`md._kernels_parallel`):
+        contact bonds as CSR ``(start, bond, sign)`` and the 18-column lattice table."""
+        from ._kernels_parallel import contact_lists, full_lattice_table
+
+        full = np.empty((self.lattice_neighbors.shape[0], 18), np.int32)
+        full_lattice_table(self.lattice_neighbors, self.n_grains, full)
+        return (*contact_lists(self.n_particles, self.bond_i, self.bond_j), full)
+
+    def gather_args(self):
+        """Arguments of :func:`md._kernels_parallel.gather_forces` after ``u, v``."""
+        start, bond, sign, full = self.gather_tables
+        return (start, bond, sign, self.bond_i, self.bond_j, self.bond_normal, self.bond_kn,
+                self.bond_kt, self.bond_gn, self.bond_gt, full, self.n_grains, _LATTICE_NORMALS,
+                self.lattice_kn, self.lattice_kt)
+
+    def forces(self, u, v=None, *, parallel=False) -> np.ndarray:
+        """Bond forces :math:`-(K u + D v)` on every particle, shape (n, 3), N; ``parallel``
+        uses the multi-threaded gather kernels (numba threads)."""
         from ._kernels_acoustic import contact_forces, lattice_forces
 
         u = np.ascontiguousarray(u, dtype=float).reshape(self.n_particles, 3)
@@ -167,6 +186,11 @@ class AcousticSystem:
             np.ascontiguousarray(v, dtype=float).reshape(self.n_particles, 3)
         f = np.zeros_like(u)
         sz = np.zeros(0)
+        if parallel:
+            from ._kernels_parallel import gather_forces
+
+            gather_forces(u, v, *self.gather_args(), f, np.zeros(self.n_particles), False, 2)
+            return f
         contact_forces(u, v, self.bond_i, self.bond_j, self.bond_normal, self.bond_kn,
                        self.bond_kt, self.bond_gn, self.bond_gt, f, sz, False, 2)
         lattice_forces(u, self.lattice_neighbors, self.n_grains, _LATTICE_NORMALS,

@@ -13,11 +13,11 @@ Two rules, chosen by ``interface`` in :func:`md.acoustic_system`:
     grains under the cement become rigid, and cemented moduli do not converge in
     :math:`\Omega`.
 
-``"patch"`` (default; converges in :math:`\Omega`)
+``"patch"`` (default; converges with :math:`\Omega` wherever the cement's shape does)
     the cemented cells touching one grain are grouped into *patches* — sets connected through
     lattice bonds between cells that touch that same grain (:func:`interface_patches`). The
-    grain under a patch of area :math:`A_p` is an elastic half-space loaded by a flat punch of
-    the patch's radius :math:`a_p`: normal stiffness :math:`2a_pE_g/(1-\nu_g^2)` and
+    grain under a patch is an elastic half-space loaded by a flat punch of the patch's outer
+    radius :math:`a_p` (below): normal stiffness :math:`2a_pE_g/(1-\nu_g^2)` and
     tangential :math:`8G_ga_p/(2-\nu_g)` (the rigid circular punch on one half-space,
     [Johnson1985]_ Ch. 3 — the constants :mod:`md.bond_stiffness` uses for a welded bond). The
     patch stiffness is shared among its cells in proportion to their interface areas (a bed of

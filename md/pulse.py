@@ -41,7 +41,7 @@ def _first_peak(signal, floor=0.0):
 
 def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_factor=0.5,
                pulse_duration=None, max_time=None, record_every=1, resolution_error=None,
-               progress=False):
+               parallel=False, progress=False):
     """Acoustic pulse test (García & Medina, Sect. III G, eqs. 10–11).
 
     The sample is cut into slabs of ``system.slab_thickness`` along z. The bottom slab is
@@ -103,6 +103,10 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
         Relative error of the velocity from the lattice resolution (e.g. the distance of this
         :math:`\\Omega` from a Richardson-extrapolated limit), ``>= 0``; reported as
         ``velocity_error_resolution`` (m/s).
+    parallel : bool
+        Run the time steps (and the static cross-check) on the multi-threaded gather kernels of
+        :mod:`md._kernels_parallel` (numba threads, ``numba.set_num_threads``); same result to
+        round-off.
     progress : bool
         Show a progress bar (tqdm).
 
@@ -147,7 +151,7 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
         raise ValueError(f"detectors must be two slabs with 0 < s1 < s2 < {n_slabs - 1} "
                          f"(between the source and the fixed slab); got {detectors}")
     ax = _wave_axis(wave)
-    static = static_modulus(system, wave)
+    static = static_modulus(system, wave, parallel=parallel)
     h = system.slab_thickness
     z0 = system.extent[0]
     centres = z0 + (np.arange(n_slabs) + 0.5) * h
@@ -166,7 +170,12 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
     v = np.zeros((n, 3))
     amp = 1e-4 * system.slab_thickness
     u[flag == 2, ax] = amp
-    args = (inv_m, flag, slab, n_slabs, *system._kernel_args())
+    if parallel:
+        from ._kernels_parallel import leapfrog_run_parallel as run
+        args = (inv_m, flag, slab, n_slabs, *system.gather_args())
+    else:
+        run = leapfrog_run
+        args = (inv_m, flag, slab, n_slabs, *system._kernel_args())
     chunk = max(1, int(min(2000, math.ceil(t_run / dt))) // record_every) * record_every
     records = []
     t = 0.0
@@ -176,7 +185,7 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
         left = max(1, math.ceil((t_run - t) / dt / record_every)) * record_every
         steps = min(chunk, left)                 # the last chunk stops at t_run
         rec = np.empty((steps // record_every, n_slabs))
-        leapfrog_run(u, v, *args, dt, t, steps, amp, tau, record_every, ax, rec)
+        run(u, v, *args, dt, t, steps, amp, tau, record_every, ax, rec)
         records.append(rec / np.maximum(counts, 1))
         t += steps * dt
         bar.update(min(steps * dt, max(t_run - bar.n, 0.0)))

@@ -83,7 +83,7 @@ def _load_path(system: AcousticSystem, flag):
 
 
 def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
-                   maxiter=None) -> StaticModulus:
+                   maxiter=None, parallel=False) -> StaticModulus:
     """P-wave (or shear) modulus of the linearised sample by a sparse solve.
 
     The bottom slab is displaced by a small :math:`u_z` (``wave="p"``, uniaxial strain) or
@@ -94,7 +94,9 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     the reaction on the fixed slab over the box area (the same through every horizontal section);
     the strain is the slope of a least-squares line through the centres of mass of the interior
     slabs (their load-path particles) in :math:`(z, u_z)` — the part of the sample the pulse test's
-    detectors see.
+    detectors see. ``rtol`` is the CG tolerance, ``maxiter`` its iteration cap (default 20 per
+    free degree of freedom); ``parallel`` applies the operator with the multi-threaded gather
+    kernels (:meth:`md.AcousticSystem.forces`).
     """
     import scipy.sparse.linalg as spla
 
@@ -110,12 +112,12 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     free_idx = np.flatnonzero(free.ravel())
     if free_idx.size == 0:
         raise ValueError("no free particle between the end slabs is bonded to them")
-    b = system.forces(u_p).ravel()[free_idx]
+    b = system.forces(u_p, parallel=parallel).ravel()[free_idx]
 
     def matvec(y):
         u = np.zeros(3 * n)
         u[free_idx] = y
-        return -system.forces(u).ravel()[free_idx]
+        return -system.forces(u, parallel=parallel).ravel()[free_idx]
 
     op = spla.LinearOperator((free_idx.size,) * 2, matvec=matvec, dtype=float)
     pre = spla.LinearOperator((free_idx.size,) * 2, matvec=lambda y: y / diag.ravel()[free_idx],

@@ -96,6 +96,23 @@ def test_kernel_equals_the_assembled_sparse_operator(cemented_cubic, rng):
     assert np.max(np.abs(K @ np.tile([1.0, -2.0, 0.5], n))) <= 1e-9 * abs(K).max()
 
 
+def test_parallel_kernels_equal_the_assembled_operator(cemented_cubic, rng):
+    """The multi-threaded gather kernels give -(K u + D v) as the sparse matrices do, and the
+    same pulse test as the serial kernels (signals to round-off)."""
+    system = cemented_cubic[3]
+    n = system.n_particles
+    u, v = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    expected = -(system.stiffness_matrix() @ u.ravel() + system.damping_matrix() @ v.ravel())
+    got = system.forces(u, v, parallel=True).ravel()
+    assert np.max(np.abs(got - expected)) <= 1e-12 * np.max(np.abs(expected))
+    serial = pulse_test(system, max_time=2e-6)
+    threaded = pulse_test(system, max_time=2e-6, parallel=True)
+    scale = np.max(np.abs(serial.signal.values))
+    assert np.max(np.abs(threaded.signal.values - serial.signal.values)) <= 1e-9 * scale
+    assert float(threaded.modulus_static) == pytest.approx(float(serial.modulus_static),
+                                                           rel=1e-8)
+
+
 def test_lattice_bonds_join_cement_particles_one_offset_apart(cemented_cubic):
     pack, lat, cem, system = cemented_cubic
     i, j = system.lattice_i, system.lattice_j
