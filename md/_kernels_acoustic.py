@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["lattice_table", "grain_cement_bonds", "interface_patches", "contact_forces",
+__all__ = ["lattice_table", "grain_cement_bonds", "interface_patches", "bond_force",
+           "contact_forces",
            "lattice_forces", "gershgorin_rows", "leapfrog_run"]
 
 
@@ -173,6 +174,24 @@ def _apply(f, sz, i, j, fx, fy, fz, nz_, want_sz, ax):
         sz[j] += c
 
 
+@njit(cache=True, inline="always")
+def bond_force(u, v, i, j, nx_, ny_, nz_, kn, kt, gn, gt):
+    """Force of one bond on its first particle ``i`` (its opposite acts on ``j``):
+    :math:`k_t\\mathbf d + (k_n - k_t)(\\mathbf d\\cdot\\hat n)\\hat n` plus the dashpot
+    term, :math:`\\mathbf d = \\mathbf u_j - \\mathbf u_i`; ``v`` may be ``u`` with zero
+    dashpots (lattice springs)."""
+    dx = u[j, 0] - u[i, 0]
+    dy = u[j, 1] - u[i, 1]
+    dz = u[j, 2] - u[i, 2]
+    wx = v[j, 0] - v[i, 0]
+    wy = v[j, 1] - v[i, 1]
+    wz = v[j, 2] - v[i, 2]
+    dn = (kn - kt) * (dx * nx_ + dy * ny_ + dz * nz_) \
+        + (gn - gt) * (wx * nx_ + wy * ny_ + wz * nz_)
+    return (kt * dx + gt * wx + dn * nx_, kt * dy + gt * wy + dn * ny_,
+            kt * dz + gt * wz + dn * nz_)
+
+
 @njit(cache=True, fastmath={"contract"})
 def contact_forces(u, v, bi, bj, nrm, kn, kt, gn, gt, f, sz, want_sz, ax):
     """Add the forces of the contact bonds to ``f`` (elastic plus dashpot); with ``want_sz``
@@ -182,21 +201,9 @@ def contact_forces(u, v, bi, bj, nrm, kn, kt, gn, gt, f, sz, want_sz, ax):
     for b in range(bi.shape[0]):
         i = bi[b]
         j = bj[b]
-        nx_ = nrm[b, 0]
-        ny_ = nrm[b, 1]
-        nz_ = nrm[b, 2]
-        dx = u[j, 0] - u[i, 0]
-        dy = u[j, 1] - u[i, 1]
-        dz = u[j, 2] - u[i, 2]
-        wx = v[j, 0] - v[i, 0]
-        wy = v[j, 1] - v[i, 1]
-        wz = v[j, 2] - v[i, 2]
-        dn = (kn[b] - kt[b]) * (dx * nx_ + dy * ny_ + dz * nz_) \
-            + (gn[b] - gt[b]) * (wx * nx_ + wy * ny_ + wz * nz_)
-        fx = kt[b] * dx + gt[b] * wx + dn * nx_
-        fy = kt[b] * dy + gt[b] * wy + dn * ny_
-        fz = kt[b] * dz + gt[b] * wz + dn * nz_
-        _apply(f, sz, i, j, fx, fy, fz, nz_, want_sz, ax)
+        fx, fy, fz = bond_force(u, v, i, j, nrm[b, 0], nrm[b, 1], nrm[b, 2], kn[b], kt[b],
+                                gn[b], gt[b])
+        _apply(f, sz, i, j, fx, fy, fz, nrm[b, 2], want_sz, ax)
 
 
 @njit(cache=True, fastmath={"contract"})

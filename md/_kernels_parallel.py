@@ -15,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ._kernels_acoustic import bond_force
+
 __all__ = ["full_lattice_table", "contact_lists", "gather_forces", "leapfrog_run_parallel"]
 
 
@@ -59,22 +61,9 @@ def gather_forces(u, v, start, cbond, csign, bi, bj, nrm, kn, kt, gn, gt, full, 
         s = 0.0
         for k in range(start[i], start[i + 1]):
             b = cbond[k]
-            a = bi[b]
-            c = bj[b]
-            nx_ = nrm[b, 0]
-            ny_ = nrm[b, 1]
+            gx, gy, gz = bond_force(u, v, bi[b], bj[b], nrm[b, 0], nrm[b, 1], nrm[b, 2], kn[b],
+                                    kt[b], gn[b], gt[b])
             nz_ = nrm[b, 2]
-            dx = u[c, 0] - u[a, 0]
-            dy = u[c, 1] - u[a, 1]
-            dz = u[c, 2] - u[a, 2]
-            wx = v[c, 0] - v[a, 0]
-            wy = v[c, 1] - v[a, 1]
-            wz = v[c, 2] - v[a, 2]
-            dn = (kn[b] - kt[b]) * (dx * nx_ + dy * ny_ + dz * nz_) \
-                + (gn[b] - gt[b]) * (wx * nx_ + wy * ny_ + wz * nz_)
-            gx = kt[b] * dx + gt[b] * wx + dn * nx_
-            gy = kt[b] * dy + gt[b] * wy + dn * ny_
-            gz = kt[b] * dz + gt[b] * wz + dn * nz_
             sg = csign[k]
             fx += sg * gx
             fy += sg * gy
@@ -88,17 +77,9 @@ def gather_forces(u, v, start, cbond, csign, bi, bj, nrm, kn, kt, gn, gt, full, 
                 if j < 0:
                     continue
                 dd = d % 9
-                nx_ = lat_nrm[dd, 0]
-                ny_ = lat_nrm[dd, 1]
                 nz_ = lat_nrm[dd, 2]
-                k_t = lat_kt[dd]
-                dx = u[j, 0] - u[i, 0]
-                dy = u[j, 1] - u[i, 1]
-                dz = u[j, 2] - u[i, 2]
-                dn = (lat_kn[dd] - k_t) * (dx * nx_ + dy * ny_ + dz * nz_)
-                gx = k_t * dx + dn * nx_
-                gy = k_t * dy + dn * ny_
-                gz = k_t * dz + dn * nz_
+                gx, gy, gz = bond_force(u, u, i, j, lat_nrm[dd, 0], lat_nrm[dd, 1], nz_,
+                                        lat_kn[dd], lat_kt[dd], 0.0, 0.0)
                 fx += gx
                 fy += gy
                 fz += gz
