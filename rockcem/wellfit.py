@@ -345,6 +345,12 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     if short:
         raise ValueError(f"log {short[0]} has {points[short[0]]} samples in {lo:g}-{hi:g} m")
     observed = {v: well[v].values[masks[v]] for v in variables}
+    for v, values in observed.items():
+        if np.any(values <= 0.0):
+            at = float(z[masks[v]][np.flatnonzero(values <= 0.0)[0]])
+            raise ValueError(f"log {v} is {values[values <= 0.0][0]:g} at {at:g} m; the fit "
+                             "needs positive values (misfits are relative): narrow the depth "
+                             "window or leave that log out")
 
     def trial(values):
         """The reduced scene at trial values, set without validating the whole scene again

@@ -189,3 +189,10 @@ def test_relative_uncertainties_match_the_scatter_of_repeated_fits():
     # Unbiased: the mean of 40 fits within 3 of its standard errors (the weights from the
     # noisy logs, m/o - 1, put it 0.75 of a single fit's standard error high).
     assert abs(np.mean(values) - 2.5) < 3.0 * spread / np.sqrt(40)
+
+
+def test_non_positive_log_values_are_named(scene, well):
+    bad = well.copy(deep=True)
+    bad["density"].values[10] = 0.0
+    with pytest.raises(ValueError, match=r"log density is 0 at 1050 m; the fit needs positive"):
+        fit_scene(scene, bad, ["sandstone.beta"], variables=["density"])
