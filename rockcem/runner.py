@@ -83,17 +83,25 @@ class _Pipeline:
         return type(full)(*(self.now(v) for v in full))
 
     @cached_property
+    def quartz(self):
+        """Present-day Walderhaug quartz cement (the kinetics only; no compaction)."""
+        import burial
+
+        s = self.lith
+        with _section("sandstone"):
+            return self.now(burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
+                                                 s["quartz_fraction"], s["clay_coating"],
+                                                 start_temperature=s["start_temperature"]))
+
+    @cached_property
     def sandstone(self):
         import burial
 
         s = self.lith
         with _section("sandstone"):
-            phip = self.now(burial.quartz_cement(self.path, s["porosity0"], s["grain_size"],
-                                                 s["quartz_fraction"], s["clay_coating"],
-                                                 start_temperature=s["start_temperature"]))
             igv = burial.intergranular_volume(s["porosity0"], self.pressures.max_effective,
                                               s["igv_final"], s["beta"])
-        return burial.sandstone_porosity(igv, phip)
+        return burial.sandstone_porosity(igv, self.quartz)
 
     @cached_property
     def shale_porosity(self):

@@ -70,6 +70,10 @@ DEFAULT_BOUNDS = {
     "models.generalized_gassmann.A": (1.0, 8.0),
     "models.self_consistent.aspect_ratio": (0.01, 1.0),
 }
+#: Keys that change compaction but not the quartz-cement kinetics (which depend on the path,
+#: porosity0, grain size, quartz fraction, clay coating and start temperature only).
+_COMPACTION_KEYS = ("sandstone.beta", "sandstone.igv_final", "pressure.sediment_density",
+                    "pressure.water_density")
 #: Correlation beyond which two parameters are reported as not separately determined.
 CORRELATION_LIMIT = 0.999
 
@@ -325,7 +329,12 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     if models_only:
         rock = _rock_state(reduced)
     elif not any(k.startswith("path.") for k in params):
-        rock = {k: v for k, v in start.__dict__.items() if k in ("path", "history")}
+        shared = ("path", "history")
+        if all(k in _COMPACTION_KEYS or k.startswith("models.") for k in params) \
+                and reduced.lithology == "sandstone":
+            start.quartz                                  # the kinetics, computed once
+            shared += ("quartz",)
+        rock = {k: v for k, v in start.__dict__.items() if k in shared}
     else:
         rock = {}
     lo = max(float(scene_depth.min()), float(well.depth.min()))
