@@ -52,6 +52,16 @@ def test_fit_recovers_known_parameters_within_their_uncertainties(scene, well):
     assert set(fit.scene.outputs) == {"vp", "vs"} and fit.variables == ("vp", "vs")
 
 
+def _predictions_are_the_full_scene(fit, well):
+    """The fit's predictions equal the full scene run at the fitted values."""
+    full = evaluate(fit.fitted)
+    for v in ("vp", "density"):
+        model = full[v].sel(model="patchy_cement") if "model" in full[v].dims else full[v]
+        np.testing.assert_allclose(fit.result.predicted[v],
+                                   np.interp(well.depth.values, full.depth.values, model),
+                                   rtol=1e-14)
+
+
 def test_model_parameters_only_run_the_kinetics_once(scene, well, monkeypatch):
     import burial
 
@@ -62,23 +72,13 @@ def test_model_parameters_only_run_the_kinetics_once(scene, well, monkeypatch):
     fast = fit_scene(scene, well, list(TRUE), errors=SIGMA, variables=list(SIGMA))
     assert len(calls) == 1          # the rock state, shared by every trial
     # ... and the predictions are those of the full scene at the fitted values.
-    full = evaluate(fast.fitted)
-    for v in ("vp", "density"):
-        model = full[v].sel(model="patchy_cement") if "model" in full[v].dims else full[v]
-        np.testing.assert_allclose(fast.result.predicted[v],
-                                   np.interp(well.depth.values, full.depth.values, model),
-                                   rtol=1e-14)
+    _predictions_are_the_full_scene(fast, well)
     # Compaction keys leave the kinetics alone: computed once for the whole fit.
     before = len(calls)
     compaction = fit_scene(scene, well, [*TRUE, "sandstone.beta"], errors=SIGMA,
                            variables=list(SIGMA))
     assert len(calls) == before + 1 and compaction.result.success
-    full = evaluate(compaction.fitted)
-    for v in ("vp", "density"):
-        model = full[v].sel(model="patchy_cement") if "model" in full[v].dims else full[v]
-        np.testing.assert_allclose(compaction.result.predicted[v],
-                                   np.interp(well.depth.values, full.depth.values, model),
-                                   rtol=1e-14)
+    _predictions_are_the_full_scene(compaction, well)
     before = len(calls)
     slow = fit_scene(scene, well, ["sandstone.porosity0"], errors=SIGMA, variables=["density"])
     assert len(calls) > before + 5 and slow.result.success     # once per trial
