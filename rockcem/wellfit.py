@@ -3,9 +3,11 @@ r"""Fitting a scene to a well: numeric scene keys by least squares against well 
 :func:`fit_scene` runs the scene, reduced to what the fitted logs need (the outputs ``vp``,
 ``vs``, ``density``, ``porosity`` that the well has, and only the one model that ``vp``/``vs``
 come from), at trial values of the free keys, takes the model at the log's depths (linear
-between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. When only model
-parameters are free, the rock state (burial path, kinetics, compaction, density) is computed
-once and shared by every trial. The result gives
+between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. What the free
+keys cannot change is computed once and shared by every trial: with only model parameters
+free the whole rock state (burial path, kinetics, compaction, density); with compaction keys
+(:data:`_COMPACTION_KEYS`) the path and the quartz-cement kinetics; with no path key the
+path (a history table is read once). The result gives
 values, one-sigma uncertainties, their correlation, the misfit before and after, parameters on a
 bound, and parameters the logs do not determine; :meth:`SceneFit.write_calibration` writes a
 scene calibration file (``model = "scene"``) that any scene applies with its top-level key
