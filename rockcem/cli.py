@@ -116,8 +116,9 @@ def _plot(args) -> int:
         ds = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
         raise ValueError(f"{args.file} is not a readable netCDF file: {exc}") from None
-    if args.kind == "vp-porosity" and ds.attrs.get("lithology") != "sandstone":
-        raise ValueError("--kind vp-porosity draws the contact models of a sandstone; "
+    if args.kind in ("vp-porosity", "template") and ds.attrs.get("lithology") != "sandstone":
+        drawn = {"vp-porosity": "the contact models", "template": "the patchy-cement template"}
+        raise ValueError(f"--kind {args.kind} draws {drawn[args.kind]} of a sandstone; "
                          f"{path.name} is not a sandstone scene")
     ds = _select(ds, args.select or [])
     if args.well:
@@ -161,7 +162,9 @@ def _select(ds, selections):
                               for v in values)
             raise ValueError(f"--select {item}: no such value of {dim} (values: {shown})")
         chosen.setdefault(dim, []).append(int(match[0]))
-    return ds.isel({d: i if len(i) > 1 else i[0] for d, i in chosen.items()})
+    # One model stays a model dimension (its colour and line style); a single value of a
+    # sweep dimension becomes a scalar coordinate, which the figure names.
+    return ds.isel({d: i if len(i) > 1 or d == "model" else i[0] for d, i in chosen.items()})
 
 
 def _scenes(args) -> int:

@@ -123,11 +123,19 @@ def _model_marker(model, index: int) -> str:
 
 
 def _shade(colour, index: int, count: int):
-    """``colour`` lightened towards white for the ``index``-th of ``count`` sweep values."""
+    """``colour`` for the ``index``-th of ``count`` sweep values: from 35 % darker (towards
+    black) to 50 % lighter (towards white), so that even two members of a light colour (the
+    pink of Model 4) stand apart; a near-black colour (the dark grey of model-independent
+    lines), which cannot darken, from itself to 70 % lighter. ``colour`` itself for a single
+    value."""
     from matplotlib.colors import to_rgb
 
-    t = 0.55 * index / (count - 1) if count > 1 else 0.0
-    return tuple(c + (1.0 - c) * t for c in to_rgb(colour))
+    rgb = to_rgb(colour)
+    if count < 2:
+        return rgb
+    dark, light = (-0.35, 0.5) if max(rgb) > 0.2 else (0.0, 0.7)
+    t = dark + (light - dark) * index / (count - 1)
+    return tuple(c * (1.0 + t) if t < 0 else c + (1.0 - c) * t for c in rgb)
 
 
 def _model_linestyle(model, index: int):
@@ -193,17 +201,39 @@ def _members(ds, arrays, purpose: str, how: str):
     return dims, members
 
 
-def _sweep_legend(fig, dims, members, ds):
-    """Legend of the sweep members' shades, below the figure (nothing for one member)."""
+def _held(ds):
+    """``ds`` with its single-valued sweep dimensions (other than ``depth`` and ``model``) made
+    scalar coordinates, and a text naming every scalar coordinate with its value and unit
+    (``"Geothermal gradient: 30 °C/km"``; empty if none): what a selection such as
+    ``rockcem plot --select gradient=30`` or ``ds.sel(gradient=30)`` holds fixed, so that the
+    figure can say which member it shows."""
+    single = {d: 0 for d in ds.dims if d not in ("depth", "model") and ds.sizes[d] == 1}
+    if single:
+        ds = ds.isel(single)
+    parts = []
+    for name, coord in ds.coords.items():
+        if coord.ndim == 0 and name != "depth":
+            value = coord.values.item()
+            text = _model_label(value) if name == "model" else _sweep_text(name, value, ds)
+            long_name = _attrs(str(name), ds).get("long_name", str(name).replace("_", " "))
+            parts.append(f"{_capital(str(long_name))}: {text}")
+    return ds, "; ".join(parts)
+
+
+def _sweep_legend(fig, dims, members, ds, held=""):
+    """Legend of the sweep members' shades, below the figure; for a single member only the
+    text ``held`` (the values a selection holds fixed; nothing if empty)."""
     from matplotlib.lines import Line2D
 
     if len(members) < 2:
-        return None
+        if not held:
+            return None
+        return fig.legend(handles=[], loc="outside lower center", title=held)
     return fig.legend(handles=[Line2D([], [], color=_shade(_INK, j, len(members)), linewidth=2.0,
                                       label=text.split(" = ", 1)[1] if len(dims) == 1 else text)
                                for j, (_, text) in enumerate(members)],
                       loc="outside lower center", ncols=min(len(members), 6),
-                      title=_sweep_title(dims, ds) + " (shade)")
+                      title=_sweep_title(dims, ds) + " (shade)" + (f"; {held}" if held else ""))
 
 
 def _sweep_title(dims, ds) -> str:

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import (_INK, _DEFAULT_TRENDS, _RC, _label, _model_label, _model_style, _shade,
-                     _members, _sweep_legend, _sweep_text, _check_dataset, _require, _figure)
+from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_style,
+                     _shade, _members, _sweep_legend, _sweep_text, _check_dataset, _require,
+                     _figure)
 
 __all__ = ["depth_trends"]
 
@@ -18,10 +19,13 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     model's colour, line style and width (the first model widest and lowest, so that models
     whose curves coincide both stay visible); model-independent ones are drawn in dark grey.
     Every member of a sweep (the other dimensions of the variables, e.g. ``gradient``, and
-    their product when there are several) is drawn, each in its own lighter shade, with a
-    second legend giving the swept values and units; past
+    their product when there are several) is drawn, each in its own shade (darkest first),
+    with a second legend giving the swept values and units; past
     :data:`~rockcem.plots.MAX_MEMBERS` members the figure refuses and names the dimension to
-    select values of.
+    select values of. A variable that is the same at every value of a sweep dimension (the
+    porosity of a sweep over a Model 4 parameter) is drawn once, and its panel says "same for
+    every <dimension>". A single-valued sweep dimension or scalar coordinate (what
+    ``ds.sel(gradient=30)`` leaves) is named with its value below the figure.
 
     With ``temperature_axis`` and a ``temperature`` variable in ``ds``, the right edge of the
     last panel carries a temperature scale read from it (one scale per distinct temperature
@@ -73,6 +77,7 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     _check_dataset(ds)
+    ds, held = _held(ds)
     if variables is None:
         variables = [v for v in _DEFAULT_TRENDS if v in ds.data_vars]
         if not variables:
@@ -83,12 +88,15 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     variables = list(variables)
     if not variables:
         raise ValueError("variables must name at least one variable")
-    arrays = []
+    arrays, notes = [], []
     for name in variables:
         da = _require(ds, name, "depth_trends")
         if "depth" not in da.dims:
             raise ValueError(f"variable {name!r} has no 'depth' dimension (dims: {da.dims})")
-        arrays.append(da)
+        alike = [d for d in da.dims if d not in ("depth", "model") and _alike(da, d)]
+        arrays.append(da.isel({d: 0 for d in alike}, drop=True))
+        notes.append(f"same for every {', '.join(d.replace('_', ' ') for d in alike)}"
+                     if alike else "")
     dims, members = _members(ds, arrays, "depth_trends", "one shade of each model's colour")
     models = list(ds["model"].values) if "model" in ds.dims else []
     depth = np.asarray(ds["depth"].values, dtype=float)
@@ -124,6 +132,8 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             ax.set_xlabel(_label(da.name, ds, width=26))
             if len(arrays) > 1:
                 ax.set_title(f"({chr(ord('a') + k)})", loc="left", fontweight="bold")
+            if notes[k]:                        # one line stands for several sweep members
+                ax.set_title(notes[k], loc="right", fontsize=7.0, color="0.35")
             ax.tick_params(labelleft=k == 0)
         axes[0].set_ylabel(_label("depth", ds))
         axes[0].set_ylim(depth.max(), depth.min())          # depth increases downward
@@ -137,11 +147,18 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                 for i, m in enumerate(models)],
                        loc="outside upper center", ncols=min(len(models), 4 if len(variables) > 2
                                                              else 2))
-        _sweep_legend(fig, dims, members, ds)
+        _sweep_legend(fig, dims, members, ds, held)
     return fig
 
 
-# ----------------------------------------------------------------------------- velocity-porosity
+def _alike(da, dim) -> bool:
+    """Whether ``da`` is the same (to 1e-12, NaN equal to NaN) at every value of ``dim``:
+    then one line stands for all of them (porosity in a sweep of a Model 4 parameter), where
+    one line per member would draw them on top of one another, the last over the rest."""
+    if da.sizes[dim] < 2:
+        return False
+    values = np.asarray(da.transpose(dim, ...).values, dtype=float)
+    return bool(np.allclose(values, values[:1], rtol=1e-12, atol=0.0, equal_nan=True))
 
 
 def _temperature_axes(ax, ds, members):

@@ -7,8 +7,9 @@ import difflib
 
 import numpy as np
 
-from ._style import (_INK, _RC, _label, _model_label, _model_marker, _model_size, _model_style,
-                     _members, _shade, _sweep_legend, _check_dataset, _require, _material, _figure)
+from ._style import (_INK, _RC, _held, _label, _model_label, _model_marker, _model_size,
+                     _model_style, _members, _shade, _sweep_legend, _check_dataset, _require,
+                     _material, _figure)
 
 __all__ = ["velocity_porosity", "rock_physics_template"]
 
@@ -111,6 +112,7 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     _check_dataset(ds)
+    ds, held = _held(ds)
     if velocity not in ("vp", "vs"):
         close = difflib.get_close_matches(str(velocity), ["vp", "vs"], n=1)
         hint = f"; did you mean {close[0]!r}?" if close else ""
@@ -186,7 +188,7 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
             f"{fluid.name or 'fluid'}; $p_e$ = {pressure:.3g} MPa,\n"
             f"$n$ = {coordination_number:g}, $\\phi_c$ = {phic:g}"),
             title_fontsize=7.5, alignment="left")
-        _sweep_legend(fig, dims, members, ds)
+        _sweep_legend(fig, dims, members, ds, held)
     return fig
 
 
@@ -213,7 +215,9 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     Parameters
     ----------
     ds : xarray.Dataset, optional
-        Scene Dataset with ``density``, ``vp`` and ``vs`` (optionally per ``model``).
+        Scene Dataset with ``density``, ``vp`` and ``vs`` (optionally per ``model``). A
+        Dataset of another lithology (attribute ``lithology``, e.g. a shale) is refused
+        unless ``grain`` and ``cement`` are given: the template is that of a cemented sand.
     grain, cement : str or Mineral, optional
         Grain and cement materials; default those of ``ds.attrs`` (a sandstone scene's),
         else quartz and quartz cement.
@@ -263,9 +267,19 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     """
     from ..models import patchy_cement_model
 
+    held = ""
+    if ds is not None:
+        _check_dataset(ds)
+        ds, held = _held(ds)
+        lithology = ds.attrs.get("lithology", "sandstone")
+        if lithology != "sandstone" and (grain is None or cement is None):
+            raise ValueError(
+                f"rock_physics_template draws the patchy-cement (Model 4) template of a "
+                f"cemented sand; the Dataset is a {lithology} scene: pass grain= and cement= "
+                "to draw a sandstone template under it anyway")
     given = {"grain": grain, "cement": cement, "fluid": fluid,
              "critical_porosity": critical_porosity}
-    attrs = dict(ds.attrs) if ds is not None and hasattr(ds, "attrs") else {}
+    attrs = dict(ds.attrs) if ds is not None else {}
     for key, value in given.items():           # given, else the scene's, else the default
         if value is None:
             given[key] = attrs.get(key, _TEMPLATE_DEFAULTS[key])
@@ -284,7 +298,6 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     if phip.ndim != 1 or np.any(~np.isfinite(phip)) or np.any((phip < 0.0) | (phip >= phic)):
         raise ValueError(f"cement_fraction must be a 1-D array of values in [0, {phic:g})")
     if ds is not None:
-        _check_dataset(ds)
         data = [_require(ds, n, "rock_physics_template") for n in ("density", "vp", "vs")]
     P, C = np.meshgrid(phi, phip, indexing="ij")
     ok = P + C <= phic * (1.0 + 1e-12)
@@ -339,6 +352,8 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
                 + (" (swept: panel titles)" if own else "")))
             if len(members) > 1:
                 ax.set_title(members[k][1], fontsize=8.0)
+            elif held:                                 # the member a selection holds
+                ax.set_title(held, fontsize=8.0)
             if k % ncols == 0:
                 ax.set_ylabel(_label("vp_vs"))
             if k >= len(members) - ncols:
@@ -346,6 +361,8 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
             ax.margins(x=0.06, y=0.08)
         if ds is not None:
             _data_points(fig, axes, ds, density, vp, vs, members)
+        if held and len(members) > 1:
+            fig.suptitle(held, fontsize=8.0)
     return fig
 
 

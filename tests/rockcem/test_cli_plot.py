@@ -88,3 +88,28 @@ def test_run_summary_lists_the_validity_warnings():
     assert f"warning: Model 1 (Krief frame) at 0–{loose[-1]:g} m: porosity above 0.324" in text
     assert f"warning: quartz cement at {filled[0]:g}–6000 m" in text
     assert np.all(np.diff(loose) == 100.0)                 # one interval from the surface
+
+
+def test_plot_select_one_model_keeps_its_style_and_names_the_held_values(swept_file, drawn):
+    args = ["plot", str(swept_file), "--select", "grain_size=0.4", "--select", "gradient=30"]
+    assert cli.main(args + ["--select", "model=patchy_cement"]) == 0
+    vp = next(ax for ax in drawn[-1].axes if ax.get_xlabel().startswith("P-wave"))
+    (line,) = vp.get_lines()
+    assert line.get_label() == plots.MODEL_LABELS["patchy_cement"]     # not a bare "vp"
+    (held,) = drawn[-1].legends[1:]
+    assert held.get_title().get_text() == ("Geothermal gradient: 30 °C/km; "
+                                           "Grain diameter: 0.4 mm")
+
+
+def test_plot_template_of_a_shale_file_refused_in_one_line(tmp_path, drawn, capsys):
+    shale = {"name": "sh", "lithology": "shale", "models": {"hs_gassmann": {}},
+             "path": {"max_depth": 2000.0, "depth_step": 500.0}}
+    path = write_dataset(run_scene(scene_from_dict(shale)), tmp_path / "sh.nc")
+    for kind in ("template", "vp-porosity"):
+        assert cli.main(["plot", str(path), "--kind", kind]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "is not a sandstone scene" in err, err
+    assert drawn == []
+    ds = run_scene(scene_from_dict(shale))
+    with pytest.raises(ValueError, match="shale scene: pass grain= and cement="):
+        plots.rock_physics_template(ds)

@@ -149,9 +149,56 @@ def test_depth_trends_draw_every_member_of_two_sweep_dimensions():
         "porosity, gradient = 25 °C/km", "porosity, gradient = 35 °C/km"]
 
 
+def contrast(a, b):
+    """WCAG 2 contrast ratio of two colours (relative luminance of sRGB, W3C definition)."""
+    def luminance(colour):
+        c = np.asarray(matplotlib.colors.to_rgb(colour))
+        c = np.where(c <= 0.03928, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+        return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    high, low = sorted((luminance(a), luminance(b)), reverse=True)
+    return (high + 0.05) / (low + 0.05)
+
+
+@pytest.mark.parametrize("colour", list(_style._MODEL_COLOURS.values()) + [_style._INK])
+def test_sweep_shades_of_every_model_colour_stand_apart(colour):
+    # Two members: at least 3:1 (the WCAG minimum for graphics); lighter-only shades of the
+    # pink of Model 4 gave 1.9. Up to four members: neighbours at least 1.3:1.
+    assert contrast(_style._shade(colour, 0, 2), _style._shade(colour, 1, 2)) >= 3.0
+    for count in (3, 4):
+        shades = [_style._shade(colour, j, count) for j in range(count)]
+        assert min(contrast(a, b) for a, b in zip(shades, shades[1:])) >= 1.3
+    assert _style._shade(colour, 0, 1) == matplotlib.colors.to_rgb(colour)
+
+
+def test_depth_trends_draw_a_variable_the_sweep_leaves_unchanged_once():
+    ds = scene(gradients=[25.0, 35.0])
+    ds["porosity"] = ds.porosity.isel(gradient=0, drop=True).expand_dims(gradient=ds.gradient)
+    fig = plots.depth_trends(ds, ["porosity", "vp"])
+    (line,) = fig.axes[0].get_lines()
+    assert line.get_label() == "porosity"
+    np.testing.assert_array_equal(line.get_xdata(), ds.porosity.isel(gradient=0).values)
+    assert fig.axes[0].get_title(loc="right") == "same for every gradient"
+    assert len(fig.axes[1].get_lines()) == 8 and fig.axes[1].get_title(loc="right") == ""
+    ds["porosity"] = ds.porosity * xr.DataArray([1.0, 1.0 + 1e-9], dims="gradient")
+    assert len(plots.depth_trends(ds, ["porosity"]).axes[0].get_lines()) == 2
+
+
+@pytest.mark.parametrize("select", [{"gradient": 35.0}, {"gradient": [35.0]}])
+@pytest.mark.parametrize("kind", ["depth", "vp", "template"])
+def test_a_selected_member_is_named_on_the_figure(kind, select):
+    ds = scene(n=11, gradients=[25.0, 35.0]).sel(select)
+    draw = {"depth": plots.depth_trends, "vp": plots.velocity_porosity,
+            "template": plots.rock_physics_template}[kind]
+    fig = draw(ds)
+    texts = [lg.get_title().get_text() for lg in fig.legends]
+    texts += [ax.get_title() for ax in fig.axes] + [fig.get_suptitle()]
+    assert sum("Geothermal gradient: 35 °C/km" in t for t in texts) == 1, texts
+
+
 @pytest.mark.parametrize("kind", ["depth", "vp", "template"])
 def test_too_many_members_refused_naming_dimension_and_select(kind):
     ds = scene(n=5, gradients=[20.0, 25.0, 30.0, 35.0]).expand_dims(rate=[20.0, 40.0])
+    ds["vp"] = ds.vp * xr.DataArray([1.0, 1.1], dims="rate", coords={"rate": [20.0, 40.0]})
     draw = {"depth": plots.depth_trends, "vp": plots.velocity_porosity,
             "template": plots.rock_physics_template}[kind]
     with pytest.raises(ValueError, match=r"8 \(rate 2 x gradient 4\).*'gradient'.*"
