@@ -81,6 +81,10 @@ REFERENCES: dict[str, str] = {
         "Squire, W., and Trapp, G., 1998. Using complex variables to estimate derivatives of real "
         "functions. SIAM Review 40, 110-112."
     ),
+    "White1980": (
+        "White, H., 1980. A heteroskedasticity-consistent covariance matrix estimator and a "
+        "direct test for heteroskedasticity. Econometrica 48, 817-838."
+    ),
     "Carroll1988": (
         "Carroll, R. J., and Ruppert, D., 1988. Transformation and Weighting in Regression. "
         "Chapman and Hall, New York."
