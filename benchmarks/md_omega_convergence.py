@@ -68,6 +68,41 @@ def first_order_fit(omega, value, omega_min):
     return float(coef[0]), rms
 
 
+def plot(df, lim_df, schemes, saturation, tag):
+    """Modulus against Omega per scheme, both rules; the fitted limit where the fit holds
+    (rms under 1 %)."""
+    _common.use_agg()
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(schemes), figsize=(4 * len(schemes), 3.6), sharey=True,
+                             squeeze=False)
+    for ax, scheme in zip(axes[0], schemes):
+        for interface, style in (("patch", "o-"), ("paper", "x--")):
+            g = df[(df.scheme == scheme) & (df.interface == interface)]
+            ax.plot(g.omega, g.modulus_GPa, style, label=interface)
+            lim = lim_df[(lim_df.scheme == scheme) & (lim_df.interface == interface)]
+            if (interface == "patch" and len(lim) and lim.fit_rms.values[0] < 0.01
+                    and lim.modulus_limit_GPa.values[0] > 0):
+                ax.axhline(lim.modulus_limit_GPa.values[0], color="C0", lw=0.7, ls=":",
+                           label="patch: first-order limit")
+        ax.set(title=f"{scheme}, S_c {saturation:g}", xlabel="Omega = R/c_w")
+    axes[0, 0].set_ylabel("static P modulus (GPa)")
+    axes[0, 0].legend(fontsize=8)
+    _common.save_figure(fig, _common.result_path(NAME, "png", tag))
+
+
+def replot(tag):
+    """Redraw the figure from the CSV files of an earlier run."""
+    import pandas as pd
+
+    path = _common.result_path(NAME, "csv", tag)
+    df = pd.read_csv(path, comment="#")
+    lim_df = pd.read_csv(_common.result_path(NAME + "_limits", "csv", tag), comment="#")
+    with open(path) as fh:
+        sat = float(next(line for line in fh if line.startswith("# saturation:")).split(":")[1])
+    plot(df, lim_df, list(dict.fromkeys(df.scheme)), sat, tag)
+
+
 def main(argv=None):
     import pandas as pd
     import xarray as xr
@@ -84,7 +119,10 @@ def main(argv=None):
     ap.add_argument("--fit-from", type=float, default=10.0,
                     help="smallest Omega of the first-order least-squares limit")
     ap.add_argument("--tag", default="")
+    ap.add_argument("--replot", action="store_true", help="only redraw from the CSV files")
     args = ap.parse_args(argv)
+    if args.replot:
+        return replot(args.tag)
     _common.announce_source()
     size = tuple(args.size)
     work = _common.RESULTS / f"{NAME}_work" / ("pack_" + "x".join(f"{s:g}" for s in size))
@@ -165,22 +203,7 @@ def main(argv=None):
     _common.write_csv(lim_df, _common.result_path(NAME + "_limits", "csv", args.tag), attrs)
     ds = xr.Dataset.from_dataframe(df).assign_attrs(attrs)
     _common.write_netcdf(ds, _common.result_path(NAME, "nc", args.tag))
-    _common.use_agg()
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, len(args.schemes), figsize=(4 * len(args.schemes), 3.6),
-                             sharey=True, squeeze=False)
-    for ax, scheme in zip(axes[0], args.schemes):
-        for interface, style in (("patch", "o-"), ("paper", "x--")):
-            g = df[(df.scheme == scheme) & (df.interface == interface)]
-            ax.plot(g.omega, g.modulus_GPa, style, label=interface)
-            lim = lim_df[(lim_df.scheme == scheme) & (lim_df.interface == interface)]
-            if interface == "patch" and np.isfinite(lim.modulus_limit_GPa.values[0]):
-                ax.axhline(lim.modulus_limit_GPa.values[0], color="C0", lw=0.7, ls=":")
-        ax.set(title=f"{scheme}, S_c {args.saturation:g}", xlabel="Omega = R/c_w")
-    axes[0, 0].set_ylabel("static P modulus (GPa)")
-    axes[0, 0].legend()
-    _common.save_figure(fig, _common.result_path(NAME, "png", args.tag))
+    plot(df, lim_df, args.schemes, args.saturation, args.tag)
     print(_common.markdown(df, {"omega": ("Omega", "g"), "scheme": ("scheme", "s"),
                                 "interface": ("rule", "s"), "modulus_GPa": ("M (GPa)", ".3f"),
                                 "change_from_previous": ("change", "+.2%"),
