@@ -14,6 +14,11 @@ from ._style import (_INK, _RC, _held, _label, _model_label, _model_marker, _mod
 __all__ = ["velocity_porosity", "rock_physics_template"]
 
 
+def _shown(material, default: str) -> str:
+    """A material's catalogue name as legend text (``quartz_cement`` -> ``quartz cement``)."""
+    return (material.name or default).replace("_", " ")
+
+
 def _saturated(dry, grain, fluid, porosity):
     """Velocities (km/s) of a dry frame saturated by Gassmann with the grain as the mineral."""
     from ..elastic import velocities
@@ -184,8 +189,8 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
         ax.set_ylim(bottom=0.9 * min(low, finite.min()) if finite.size else 0.9 * low)
         handles += [ln for ln in ax.get_lines() if str(ln.get_gid()).startswith("template:")]
         fig.legend(handles=handles, loc="outside right upper", title=(
-            f"{grain.name or 'grain'} grains, {cement.name or 'cement'},\n"
-            f"{fluid.name or 'fluid'}; $p_e$ = {pressure:.3g} MPa,\n"
+            f"{_shown(grain, 'grain')} grains, {_shown(cement, 'cement')},\n"
+            f"{_shown(fluid, 'fluid')}; $p_e$ = {pressure:.3g} MPa,\n"
             f"$n$ = {coordination_number:g}, $\\phi_c$ = {phic:g}"),
             title_fontsize=7.5, alignment="left")
         _sweep_legend(fig, dims, members, ds, held)
@@ -346,8 +351,8 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
             own = _member_knobs(ds, members[k][0], coordination_number, delta)
             _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
                             legend=(k == 0) and (ax if len(members) == 1 else fig), title=(
-                f"Model 4 template: {grain.name or 'grain'}, {cement.name or 'cement'},\n"
-                f"{fluid.name or 'fluid'}, {pressure:g} MPa, $\\phi_c$ = {phic:g}, "
+                f"Model 4 template: {_shown(grain, 'grain')}, {_shown(cement, 'cement')},\n"
+                f"{_shown(fluid, 'fluid')}, {pressure:g} MPa, $\\phi_c$ = {phic:g}, "
                 f"$n$ = {knobs['coordination_number']:g}, $\\delta$ = {knobs['delta']:g} MPa"
                 + (" (swept: panel titles)" if own else "")))
             if len(members) > 1:

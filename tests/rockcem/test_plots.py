@@ -303,6 +303,7 @@ def test_velocity_porosity_templates_match_direct_calls(velocity):
     np.testing.assert_array_equal(data[1].get_ydata(),
                                   ds[velocity].sel(model="self_consistent").values)
     assert len(fig.legends[0].get_texts()) == 8
+    assert fig.legends[0].get_title().get_text().startswith("quartz grains, quartz cement,\nwater")
 
 
 def test_velocity_porosity_defaults_and_overrides():
@@ -379,6 +380,8 @@ def test_rock_physics_template_takes_the_scene_materials():
     ax = plots.rock_physics_template(ds).axes[0]
     gids = [ln.get_gid() for ln in ax.get_lines()]
     assert "porosity=0.4" in gids and "porosity=0.45" not in gids
+    assert ax.get_legend().get_title().get_text().startswith(
+        "Model 4 template: quartz han guo, epoxy kaolinite,")
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
     r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.04,
                             20.0, WATER, critical_porosity=0.4)
