@@ -336,7 +336,7 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         density, vp, vs = xr.broadcast(*data)
         dims, members = _members(ds, [density, vp, vs], "rock_physics_template",
                                  "one panel each")
-    ncols = min(len(members), 3)
+    ncols = 2 if len(members) == 4 else min(len(members), 3)      # 2 x 2, not 3 + 1
     nrows = -(-len(members) // ncols)
     with plt.rc_context(_RC):
         size = (6.2, 4.6) if ds is not None else (5.0, 4.2)

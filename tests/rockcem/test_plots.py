@@ -402,6 +402,7 @@ def test_rock_physics_template_takes_the_scene_model_parameters_per_panel():
     panels = [ax for ax in fig.axes if ax.get_title()]
     assert [ax.get_title() for ax in panels] == [f"thickness = {t:g}"
                                                  for t in (0.0, 0.01, 0.03, 0.05)]
+    assert [ax.get_subplotspec().colspan.start for ax in panels] == [0, 1, 0, 1]   # 2 x 2
     grain, cement = mineral("quartz_han_guo"), mineral("epoxy_kaolinite")
     for ax, thickness in zip(panels, (0.0, 0.01, 0.03, 0.05)):
         r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
