@@ -487,6 +487,25 @@ def test_coinciding_model_lines_differ_and_the_lower_is_wider(kind):
         assert len(starts) == 4
 
 
+@pytest.mark.parametrize("count", [2, 3, 4])
+def test_upper_model_lines_have_a_white_edge_that_leaves_the_lower_line_showing(count):
+    # A thin line of a similar hue on a wide one (Model 3's green on Model 1's blue) blends
+    # into it; a white edge sets it off, narrower than the line below so that one shows.
+    ds = coinciding().isel(model=slice(0, count))
+    lines = sorted(model_artists_of(plots.depth_trends(ds, ["vp"]), MODELS[:count]),
+                   key=lambda ln: ln.get_zorder())
+    assert lines[0].get_path_effects() == []
+    for below, line in zip(lines, lines[1:]):
+        (edge,) = line.get_path_effects()
+        assert edge._gc["foreground"] == "white"
+        assert line.get_linewidth() < edge._gc["linewidth"] < below.get_linewidth()
+
+
+def model_artists_of(fig, models):
+    return [ln for ln in fig.axes[0].get_lines()
+            if ln.get_label() in [plots.MODEL_LABELS[m] for m in models]]
+
+
 def test_coinciding_model_points_nest_in_the_template():
     fig = plots.rock_physics_template(coinciding(), porosity=[0.2], cement_fraction=[0.0])
     points = model_artists(fig, "template")
