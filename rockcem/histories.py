@@ -49,6 +49,10 @@ _UNITS = {
 _HEADER = re.compile(r"^\s*([A-Za-z_]+)\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*$")
 
 
+#: Histories read from files: (path, inode, mtime, size, kind, depth_step) -> TableHistory.
+_READ: dict = {}
+
+
 class TableHistory(NamedTuple):
     """A scene's burial path from a table, and the horizon names (``None`` for nodes)."""
 
@@ -151,11 +155,17 @@ def scene_history(section, base_dir=None) -> TableHistory:
 
     kind = section["kind"]
     inline = [c for c in _COLUMNS[kind] if section.get(c) is not None]
+    key = None
     if section.get("table") is not None:
         if inline:
             raise ValueError(f"scene key path.{inline[0]}: give the history either as "
                              "path.table or inline, not both")
         file = _resolve(section["table"], base_dir)
+        stat = file.stat()
+        key = (str(file.resolve()), stat.st_ino, stat.st_mtime_ns, stat.st_size, kind,
+               section.get("depth_step"))
+        if key in _READ:
+            return _READ[key]
         columns = read_history_table(file, kind)
         where = f"scene key path.table ({file.name})"
     else:
@@ -170,9 +180,20 @@ def scene_history(section, base_dir=None) -> TableHistory:
         if kind == "horizons":
             h = horizon_paths(columns["horizon"], columns["time"], columns["depth"],
                               columns["temperature"])
-            return TableHistory(h.path, h.horizon)
-        return TableHistory(shifted_path(columns["time"], columns["depth"],
-                                         columns["temperature"],
-                                         depth_step=section.get("depth_step")), None)
+            out = TableHistory(h.path, h.horizon)
+        else:
+            out = TableHistory(shifted_path(columns["time"], columns["depth"],
+                                            columns["temperature"],
+                                            depth_step=section.get("depth_step")), None)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from None
+    if key is not None:
+        # Validating a scene reads its table and running it needs the same history (twice
+        # per sweep member): kept, read-only, while the file is unchanged.
+        for arr in (out.path.time, out.path.depth, out.path.temperature, out.horizon):
+            if arr is not None:
+                arr.setflags(write=False)
+        if len(_READ) >= 16:
+            _READ.pop(next(iter(_READ)))
+        _READ[key] = out
+    return out

@@ -259,3 +259,19 @@ def test_history_depth_units_spelt_as_the_well_reader_takes_them(tmp_path):
                      "A,0,1000,25\n")
         np.testing.assert_array_equal(read_history_table(f, "horizons")["depth"],
                                       [0.0, 1000.0 * factor])
+
+
+def test_a_history_file_is_read_once_per_version(sandstone_raw, tmp_path, monkeypatch):
+    import rockcem.histories as histories
+
+    reads = []
+    original = histories.read_history_table
+    monkeypatch.setattr(histories, "read_history_table",
+                        lambda *a: reads.append(1) or original(*a))
+    f = tmp_path / "h.csv"
+    f.write_text("horizon,age (Ma),depth (m),temperature (degC)\nA,30,0,15\nA,0,1000,45\n")
+    scene = scene_from_dict({**sandstone_raw, "path": {"kind": "horizons", "table": "h.csv"}},
+                            base_dir=tmp_path)
+    assert run_scene(scene).depth.values.tolist() == [1000.0] and len(reads) == 1
+    f.write_text("horizon,age (Ma),depth (m),temperature (degC)\nA,30,0,15\nA,0,1500.0,60\n")
+    assert run_scene(scene).depth.values.tolist() == [1500.0] and len(reads) == 2
