@@ -29,7 +29,8 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
 
     With ``temperature_axis`` and a ``temperature`` variable in ``ds``, the right edge of the
     last panel carries a temperature scale read from it (one scale per distinct temperature
-    profile of the sweep, labelled with its member, e.g. for a gradient sweep).
+    profile of the sweep, labelled with its member, e.g. for a gradient sweep; past two, those
+    of the coolest and the warmest member).
 
     Parameters
     ----------
@@ -163,7 +164,8 @@ def _alike(da, dim) -> bool:
 
 def _temperature_axes(ax, ds, members):
     """Temperature scales on the right of ``ax``: one for every distinct temperature profile of
-    the sweep members (one when the sweep leaves temperature unchanged), each from the
+    the sweep members (one when the sweep leaves temperature unchanged; past two, those of the
+    coolest and the warmest member at the deepest depth), each from the
     Dataset's ``temperature`` by linear interpolation in depth. Profiles whose temperature does
     not rise strictly with depth cannot be a scale and are left out."""
     if "temperature" not in ds.data_vars or "depth" not in ds["temperature"].dims:
@@ -183,6 +185,9 @@ def _temperature_axes(ax, ds, members):
         profiles.append((t, text if sel.keys() - {"model"} else ""))
     if len(profiles) == 1:                  # the sweep leaves temperature unchanged
         profiles = [(profiles[0][0], "")]
+    elif len(profiles) > 2:                 # the coolest and the warmest; more scales would
+        profiles.sort(key=lambda p: p[0][-1])   # take more room than the panels
+        profiles = [profiles[0], profiles[-1]]
     axes = []
     for k, (t, text) in enumerate(profiles):
         def to_temperature(z, t=t):

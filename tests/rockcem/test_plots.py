@@ -231,6 +231,11 @@ def test_depth_trends_temperature_axis_per_gradient():
     assert [ax.get_ylabel() for ax in secs] == [
         "Temperature, gradient = 20 °C/km (°C)", "Temperature, gradient = 30 °C/km (°C)"]
     assert [ax.get_ylim()[0] for ax in secs] == pytest.approx([15.0 + 80.0, 15.0 + 120.0])
+    ds = scene(gradients=[30.0, 20.0, 25.0])                # past two: coolest and warmest
+    ds["temperature"] = 15.0 + ds.gradient * ds.depth / 1000.0
+    fig = plots.depth_trends(ds, ["vp"])
+    assert [ax.get_ylabel() for ax in temperature_axes(fig)] == [
+        "Temperature, gradient = 20 °C/km (°C)", "Temperature, gradient = 30 °C/km (°C)"]
 
 
 def test_depth_trends_without_model_dimension_has_no_legend():
