@@ -339,7 +339,7 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     ncols = 2 if len(members) == 4 else min(len(members), 3)      # 2 x 2, not 3 + 1
     nrows = -(-len(members) // ncols)
     with plt.rc_context(_RC):
-        size = (6.2, 4.6) if ds is not None else (5.0, 4.2)
+        size = (6.2, 5.4) if ds is not None else (5.4, 5.0)
         if len(members) > 1:
             size = (3.3 * ncols + 1.0, 3.2 * nrows + 0.9)
         fig = _figure(fig, size)
@@ -350,11 +350,12 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         for k, ax in enumerate(axes):
             own = _member_knobs(ds, members[k][0], coordination_number, delta)
             _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
-                            legend=(k == 0) and (ax if len(members) == 1 else fig), title=(
+                            legend=(k == 0) and fig, title=(
                 f"Model 4 template: {_shown(grain, 'grain')}, {_shown(cement, 'cement')},\n"
                 f"{_shown(fluid, 'fluid')}, {pressure:g} MPa, $\\phi_c$ = {phic:g}, "
                 f"$n$ = {knobs['coordination_number']:g}, $\\delta$ = {knobs['delta']:g} MPa"
-                + (" (swept: panel titles)" if own else "")))
+                + ((" (swept: panel titles)" if len(members) > 1 else " (swept: title)")
+                   if own else "")))
             if len(members) > 1:
                 ax.set_title(members[k][1], fontsize=8.0)
             elif held:                                 # the member a selection holds
@@ -388,20 +389,26 @@ def _scene_knobs(ds) -> dict:
 
 
 def _member_knobs(ds, isel, coordination_number, delta) -> dict:
-    """Model 4 parameters swept in ``ds`` (attribute ``sweep``) at one member, except those
-    given explicitly."""
+    """Model 4 parameters swept in ``ds`` (attribute ``sweep``) at one member (or at the value
+    a selection left as a scalar coordinate), except those given explicitly."""
     import json
 
-    if ds is None or not isel or not ds.attrs.get("sweep"):
+    if ds is None or not ds.attrs.get("sweep"):
         return {}
     given = {"coordination_number": coordination_number, "delta": delta}
     own = {}
     for dotted in json.loads(ds.attrs["sweep"]):
         section, _, key = dotted.rpartition(".")
-        if section == "models.patchy_cement" and key in _MODEL4_KNOBS and key in isel \
-                and given.get(key) is None:
+        if section != "models.patchy_cement" or key not in _MODEL4_KNOBS \
+                or given.get(key) is not None:
+            continue
+        if key in isel:
             value = ds[key].values[isel[key]].item()
-            own[key] = int(value) if key == "scheme" else float(value)
+        elif key in ds.coords and ds[key].ndim == 0:          # one member selected
+            value = ds[key].values.item()
+        else:
+            continue
+        own[key] = int(value) if key == "scheme" else float(value)
     return own
 
 
@@ -432,9 +439,7 @@ def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):
                         (impedance[i, j], ratio[i, j]), xytext=(2, 3),
                         textcoords="offset points", ha="left", va="bottom", fontsize=7,
                         color=_INK, path_effects=halo, zorder=4)
-    if legend is ax:
-        ax.legend(handles=template, loc="upper right", title_fontsize=7.5, title=title)
-    elif legend:                                       # facets: below them all
+    if legend:                      # below the panels, where it covers no line or point
         legend.legend(handles=template, loc="outside lower center", ncols=3,
                       title_fontsize=7.5, title=title.replace("\n", " "))
 

@@ -382,10 +382,12 @@ def test_rock_physics_template_lines_match_patchy_cement_model():
 def test_rock_physics_template_takes_the_scene_materials():
     ds = scene().assign_attrs(grain="quartz_han_guo", cement="epoxy_kaolinite",
                               critical_porosity=0.4)
-    ax = plots.rock_physics_template(ds).axes[0]
+    fig = plots.rock_physics_template(ds)
+    ax = fig.axes[0]
     gids = [ln.get_gid() for ln in ax.get_lines()]
     assert "porosity=0.4" in gids and "porosity=0.45" not in gids
-    assert ax.get_legend().get_title().get_text().startswith(
+    assert ax.get_legend() is None                         # below the axes, covering nothing
+    assert fig.legends[0].get_title().get_text().startswith(
         "Model 4 template: quartz han guo, epoxy kaolinite,")
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
     r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.04,
@@ -414,6 +416,11 @@ def test_rock_physics_template_takes_the_scene_model_parameters_per_panel():
                                 coordination_number=8.5, scheme=2, thickness=thickness)
         line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
         assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    one = plots.rock_physics_template(ds.sel(thickness=0.03))   # a selected member's own
+    line = next(ln for ln in one.axes[0].get_lines() if ln.get_gid() == "porosity=0.2")
+    r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+                            coordination_number=8.5, scheme=2, thickness=0.03)
+    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
     fixed = plots.rock_physics_template(ds, delta=40.0, coordination_number=6.0)
     line = next(ln for ln in fixed.axes[0].get_lines() if ln.get_gid() == "porosity=0.2")
     r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
@@ -432,7 +439,7 @@ def test_rock_physics_template_with_dataset_points_coloured_by_depth():
     np.testing.assert_array_equal(points.get_array(), ds.depth.values)
     assert bar.get_ylabel() == "Depth below the sediment surface (m)"
     assert bar.yaxis_inverted()
-    assert [t.get_text() for t in fig.legends[0].get_texts()] == [plots.MODEL_LABELS[m]
+    assert [t.get_text() for t in fig.legends[-1].get_texts()] == [plots.MODEL_LABELS[m]
                                                                   for m in MODELS]
 
 
