@@ -19,7 +19,8 @@ import numpy as np
 __all__ = ["MD_SCHEMA", "md_scene_from_dict", "run_md_scene", "schema_lines"]
 
 _CEMENTS = ("hard", "soft")
-_SCHEMES = ("contact", "coating", "pore_body")
+_SCHEMES = ("contact", "coating", "pore_body", "pendular")
+_INTERFACES = ("patch", "paper")
 
 #: key: (default, type, unit, description)
 MD_SCHEMA = {
@@ -32,7 +33,10 @@ MD_SCHEMA = {
     "samples": (["loose", "compacted"], "strings", "", "loose and/or compacted pack"),
     "compaction_stress": (10.0, "number", "MPa", "stress the compacted sample is taken to"),
     "resolution": (3.0, "number", "cells per radius", "cement lattice resolution Omega"),
-    "schemes": (list(_SCHEMES), "strings", "", "cementation schemes"),
+    "schemes": (list(_SCHEMES[:3]), "strings", "",
+                "cementation schemes: the source's contact, coating, pore_body; pendular"),
+    "interface": ("patch", "string", "",
+                  "grain-cement interface: 'patch' (converges in Omega) or 'paper' (per cell)"),
     "cements": (list(_CEMENTS), "strings", "", "hard and/or soft cement of Table II"),
     "saturations": ([0.0, 0.02, 0.05, 0.1, 0.2], "numbers", "1",
                     "cement saturations S_c (fraction of pore cells)"),
@@ -109,6 +113,8 @@ def md_scene_from_dict(raw: dict) -> dict:
         raise _bad("compaction_stress", f"must be > 0 MPa; got {p['compaction_stress']}")
     if not p["resolution"] >= 1:
         raise _bad("resolution", f"must be >= 1; got {p['resolution']}")
+    if p["interface"] not in _INTERFACES:
+        raise _bad("interface", f"must be 'patch' or 'paper'; got {p['interface']!r}")
     if p["wave"] not in ("p", "s"):
         raise _bad("wave", f"must be 'p' or 's'; got {p['wave']!r}")
     if not 0 < p["time_step_factor"] <= 1:
@@ -134,13 +140,21 @@ class _Cementation:
         return cement_lattice(self.pack, self.params["resolution"])
 
     def cells(self, scheme, saturation):
-        from .cement import grow_cement
+        """Cemented cells of ``scheme`` at ``saturation`` (one of the scene's saturations);
+        one growth per scheme serves the whole saturation sweep (:func:`md.cement_sweep`)."""
+        from .cement import cement_sweep
 
-        key = (scheme, saturation)
-        if key not in self._cells:
-            self._cells[key] = grow_cement(self.lattice, saturation, scheme,
-                                           seed=self.params["seed"])
-        return self._cells[key]
+        if scheme not in self._cells:
+            sats = self.params["saturations"]
+            self._cells[scheme] = dict(zip(sats, cement_sweep(self.lattice, sats, scheme,
+                                                              seed=self.params["seed"])))
+        return self._cells[scheme][saturation]
+
+
+#: Pulse-test results kept per (scheme, saturation): stage-file name -> pulse_test variable.
+_PULSE_VARIABLES = {"v": "velocity", "err": "velocity_error",
+                    "err_half_slab": "velocity_error_half_slab", "fit": "velocity_fit",
+                    "static": "velocity_static", "density": "density"}
 
 
 def _pulse_sweep(cementation, cement, path, progress):
@@ -151,33 +165,38 @@ def _pulse_sweep(cementation, cement, path, progress):
     from .acoustic import acoustic_system, pulse_test
     from .state import _atomic_netcdf
 
+    pack, params = cementation.pack, cementation.params
     if path.exists():
         with xr.open_dataset(path, engine="netcdf4") as ds:
-            return ds.load()
-    pack, params = cementation.pack, cementation.params
+            done = ds.load()
+        # A stage file from before a variable was added, or for another interface, schemes or
+        # saturations than the scene's now, is redone.
+        if set(_PULSE_VARIABLES.values()) <= set(done.data_vars) \
+                and done.attrs.get("interface") == params["interface"] \
+                and list(done.scheme.values) == list(params["schemes"]) \
+                and np.array_equal(done.saturation.values, params["saturations"]):
+            return done
     lat = cementation.lattice
     schemes, sats = params["schemes"], params["saturations"]
     shape = (len(schemes), len(sats))
-    out = {k: np.full(shape, np.nan) for k in ("v", "err", "fit", "static", "density")}
+    out = {k: np.full(shape, np.nan) for k in _PULSE_VARIABLES}
     bar = tqdm(total=len(schemes) * len(sats), disable=not progress,
                desc=f"pulse tests {path.stem}")
     for a, scheme in enumerate(schemes):
         for b, s in enumerate(sats):
-            system = acoustic_system(pack, lat, cementation.cells(scheme, s), cement)
+            system = acoustic_system(pack, lat, cementation.cells(scheme, s), cement,
+                                     interface=params["interface"])
             ds = pulse_test(system, params["wave"], time_step_factor=params["time_step_factor"])
-            for key, var in (("v", "velocity"), ("err", "velocity_error"),
-                             ("fit", "velocity_fit"), ("static", "velocity_static"),
-                             ("density", "density")):
+            for key, var in _PULSE_VARIABLES.items():
                 out[key][a, b] = float(ds[var])
             bar.update()
     bar.close()
     dims = ("scheme", "saturation")
     result = xr.Dataset(
-        {"velocity": (dims, out["v"]), "velocity_error": (dims, out["err"]),
-         "velocity_fit": (dims, out["fit"]), "velocity_static": (dims, out["static"]),
-         "density": (dims, out["density"])},
+        {var: (dims, out[key]) for key, var in _PULSE_VARIABLES.items()},
         coords={"scheme": list(schemes), "saturation": sats},
-        attrs={"cell_width_m": lat.cell_width, "n_pore_cells": int(lat.index.size)})
+        attrs={"cell_width_m": lat.cell_width, "n_pore_cells": int(lat.index.size),
+               "interface": params["interface"]})
     _atomic_netcdf(result, path)
     return result
 
@@ -196,12 +215,12 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
     Returns
     -------
     xarray.Dataset
-        ``vp`` (or ``vs``) and its eq. 11 error, the all-detector fit and the static velocity
-        (km/s), ``porosity`` and ``density`` (g/cm³) over ``sample`` × ``cement`` × ``scheme`` ×
-        ``saturation``; per sample the uncemented porosity, coordination number and stress.
+        ``vp`` (or ``vs``) with its eq. 11 error for ΔL = R and for half a slab,
+        the all-detector fit and the static velocity (km/s; their difference is the
+        pulse-minus-static bias), ``porosity`` and ``density`` (g/cm³) over ``sample`` ×
+        ``cement`` × ``scheme`` × ``saturation``; per sample the uncemented porosity,
+        coordination number, vertical and mean stress. CF-1.10 attributes.
     """
-    import json
-
     import xarray as xr
 
     from .cement import HARD_CEMENT, SOFT_CEMENT
@@ -231,18 +250,39 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
                              progress) for c in p["cements"]]
         per_sample.append(xr.concat(runs, dim=xr.DataArray(p["cements"], dims="cement")))
     ds = xr.concat(per_sample, dim=xr.DataArray(p["samples"], dims="sample"))
+    return _scene_dataset(scene, ds, {"porosity_uncemented": phi0, "coordination_number": coord,
+                                      "stress": stress, "stress_mean": stress_mean})
+
+
+def _scene_dataset(scene, ds, per_sample):
+    """The MD scene's output Dataset (CF attributes) from the pulse tests ``ds`` over
+    sample × cement × scheme × saturation (SI units) and the per-sample pack measures."""
+    import json
+
+    import xarray as xr
+
+    p = scene["md"]
     w = p["wave"]
-    units = {"units": "km s-1"}
+    kms = {"units": "km s-1"}
+    phi0 = np.asarray(per_sample["porosity_uncemented"], dtype=float)
+
+    def label(name, long_name):
+        return (name, list(p[f"{name}s"]), {"long_name": long_name})
+
     out = xr.Dataset(
         {
             f"v{w}": (ds.velocity / 1e3).assign_attrs(
-                units, long_name=f"{w.upper()} velocity of the pulse test (eq. 11)"),
-            f"v{w}_error": (ds.velocity_error / 1e3).assign_attrs(units, long_name="eq. 11 error"),
+                kms, long_name=f"{w.upper()} velocity of the pulse test (eq. 11)"),
+            f"v{w}_error": (ds.velocity_error / 1e3).assign_attrs(
+                kms, long_name="eq. 11 error of the pulse velocity, Delta L = R"),
+            f"v{w}_error_half_slab": (ds.velocity_error_half_slab / 1e3).assign_attrs(
+                kms, long_name="eq. 11 error of the pulse velocity, Delta L = half a slab"),
             f"v{w}_fit": (ds.velocity_fit / 1e3).assign_attrs(
-                units, long_name="velocity from the arrival times of all detectors"),
+                kms, long_name="velocity from the arrival times of all detectors"),
             f"v{w}_static": (ds.velocity_static / 1e3).assign_attrs(
-                units, long_name="long-wave velocity of the static modulus"),
-            "density": (ds.density / 1e3).assign_attrs(units="g cm-3"),
+                kms, long_name="long-wave velocity of the static modulus"),
+            "density": (ds.density / 1e3).assign_attrs(
+                units="g cm-3", long_name="bulk density of the dry cemented pack"),
             "porosity": (("sample", "saturation"),
                          np.outer(phi0, 1.0 - np.asarray(p["saturations"])),
                          {"units": "1", "long_name": "porosity after cementation, "
@@ -250,19 +290,27 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
             "porosity_uncemented": (("sample",), phi0, {
                 "units": "1", "long_name": "porosity of the uncemented pack in its core window "
                                            "between the end slabs"}),
-            "coordination_number": (("sample",), coord, {"units": "1"}),
-            "stress": (("sample",), stress, {
+            "coordination_number": (("sample",), per_sample["coordination_number"], {
+                "units": "1", "long_name": "mean number of contacts per grain"}),
+            "stress": (("sample",), per_sample["stress"], {
                 "units": "MPa", "long_name": "vertical contact stress sigma_zz of the pack's core "
                                              "(virial, normal and tangential forces)"}),
-            "stress_mean": (("sample",), stress_mean, {
+            "stress_mean": (("sample",), per_sample["stress_mean"], {
                 "units": "MPa", "long_name": "mean contact stress trace(sigma)/3 of the pack's "
                                              "core"}),
         },
-        coords={"sample": p["samples"], "cement": p["cements"], "scheme": p["schemes"],
-                "saturation": ("saturation", p["saturations"], {"units": "1",
-                                                                "long_name": "S_c"})},
-        attrs={"title": f"rockcem MD scene {scene['name']}", "scene_name": scene["name"],
-               "description": scene["description"], "scene_json": json.dumps(scene),
+        coords={"sample": label("sample", "grain pack (settled, or compacted)"),
+                "cement": label("cement", "cement material (García & Medina, Table II)"),
+                "scheme": label("scheme", "cementation scheme"),
+                "saturation": ("saturation", p["saturations"], {
+                    "units": "1", "long_name": "cement saturation S_c (fraction of the pore "
+                                               "cells)"})},
+        attrs={"Conventions": "CF-1.10", "title": f"rockcem MD scene {scene['name']}",
+               "scene_name": scene["name"], "description": scene["description"],
+               "scene_json": json.dumps(scene), "resolution": p["resolution"],
+               "interface": p["interface"],
                "references": "García & Medina (MD), Sects. III-IV, eqs. 4-11, Table II"},
     )
+    for name in out.coords:           # CF 1.10 sect. 2.5.1: coordinates have no missing values
+        out[name].encoding["_FillValue"] = None
     return out

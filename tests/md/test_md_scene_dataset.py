@@ -1,0 +1,67 @@
+"""The MD scene's output file reads as CF and keeps the pulse test's error terms.
+
+The Dataset builder is fed a small hand-made set of pulse results, so the check costs no MD
+run (a run of the shipped scene takes minutes).
+"""
+
+import numpy as np
+import pytest
+
+from md.experiment import _scene_dataset, md_scene_from_dict
+
+xr = pytest.importorskip("xarray")
+netCDF4 = pytest.importorskip("netCDF4")
+
+
+def _scene(**md):
+    return md_scene_from_dict({"name": "tiny", "md": {"samples": ["loose", "compacted"],
+                                                      "cements": ["hard"],
+                                                      "schemes": ["contact", "pendular"],
+                                                      "saturations": [0.0, 0.1], **md}})
+
+
+def _pulses(scene):
+    p = scene["md"]
+    shape = (len(p["samples"]), len(p["cements"]), len(p["schemes"]), len(p["saturations"]))
+    v = np.linspace(1500.0, 3000.0, np.prod(shape)).reshape(shape)     # m/s
+    dims = ("sample", "cement", "scheme", "saturation")
+    data = {"velocity": v, "velocity_error": 0.05 * v, "velocity_error_half_slab": 0.1 * v,
+            "velocity_fit": 1.01 * v, "velocity_static": 1.1 * v,
+            "density": np.full(shape, 1650.0)}
+    return xr.Dataset({k: (dims, a) for k, a in data.items()},
+                      coords={"sample": p["samples"], "cement": p["cements"],
+                              "scheme": p["schemes"], "saturation": p["saturations"]})
+
+
+def test_md_scene_dataset_units_errors_and_cf(tmp_path):
+    cf_xarray = pytest.importorskip("cf_xarray.units")
+    scene = _scene()
+    pulses = _pulses(scene)
+    out = _scene_dataset(scene, pulses, {"porosity_uncemented": [0.40, 0.38],
+                                         "coordination_number": [4.5, 5.6],
+                                         "stress": [0.01, 10.0], "stress_mean": [0.007, 6.8]})
+    # SI pulse results become km/s and g/cm3; both eq. 11 errors are kept side by side.
+    np.testing.assert_allclose(out.vp.values, pulses.velocity.values / 1e3, rtol=1e-15)
+    np.testing.assert_allclose(out.vp_error_half_slab / out.vp_error, 2.0, rtol=1e-12)
+    np.testing.assert_allclose(out.density, 1.65, rtol=1e-15)
+    np.testing.assert_allclose(out.porosity.sel(sample="compacted"), 0.38 * np.array([1, 0.9]))
+    assert out.attrs["interface"] == "patch" and out.attrs["Conventions"].startswith("CF-")
+    path = tmp_path / "md.nc"
+    out.to_netcdf(path)
+    back = xr.load_dataset(path)
+    for name, var in back.variables.items():
+        assert var.attrs.get("long_name"), name
+        if var.dtype.kind not in "OSU":
+            cf_xarray.units.Unit(var.attrs["units"])          # UDUNITS-parseable
+    with netCDF4.Dataset(path) as nc:
+        for name in nc.dimensions:
+            assert "_FillValue" not in nc.variables[name].ncattrs(), name
+
+
+@pytest.mark.parametrize("md, message", [
+    ({"interface": "cell"}, r"md.interface must be 'patch' or 'paper'"),
+    ({"schemes": ["pendulum"]}, r"md.schemes has 'pendulum'; valid: .*pendular"),
+])
+def test_md_scene_bad_interface_or_scheme(md, message):
+    with pytest.raises(ValueError, match=message):
+        _scene(**md)
