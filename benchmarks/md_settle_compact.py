@@ -5,7 +5,8 @@
    release of all grains from a lattice, same seeds (``--seeds``, default 3), with the true
    contact stiffness throughout (``fall_stiffness_factor = 1``): core porosity (between the
    slabs a compaction freezes; the source: 0.412), porosity from the floor, coordination,
-   steps and wall time.
+   steps and wall time. Seed 0 is also settled sequentially with each wave released at rest
+   (``deposition_gentle``) and with ten times the drag (``deposition_drag500``).
 2. ``compaction``: the first sequential pack compacted between frozen slabs to
    ``--stresses`` (MPa, default 10, 30, 100) in steps of ``--strain-step``: core porosity,
    sigma_zz and mean stress (virial with tangential forces), the force on the top slab per area,
@@ -37,13 +38,19 @@ from md.state import load_pack, save_pack  # noqa: E402
 PARTS = RESULTS / "md_settle_compact_parts"
 
 
-def _settled(size, protocol, seed):
-    path = PARTS / f"settle_{protocol}_{'x'.join(f'{s:g}' for s in size)}_seed{seed}.nc"
+#: Sequential deposition of seed 0 with one setting changed: each wave released at rest just
+#: above the pile (no impact speed), and a fluid ten times more viscous (terminal 2 cm/s).
+VARIANTS = {"gentle": dict(drop_height=1e-6), "drag500": dict(drag=500.0)}
+
+
+def _settled(size, protocol, seed, variant=""):
+    path = PARTS / (f"settle_{protocol}_{'x'.join(f'{s:g}' for s in size)}_seed{seed}"
+                    + (f"_{variant}" if variant else "") + ".nc")
     if path.exists():
         return load_pack(path)
     t = time.perf_counter()
     pack = settle(size=size, protocol=protocol, seed=seed, fall_stiffness_factor=1.0,
-                  kinetic_tolerance=1e-5)
+                  kinetic_tolerance=1e-5, **VARIANTS.get(variant, {}))
     pack = pack.__class__(**{**pack.__dict__, "metadata": {
         **pack.metadata, "seconds": time.perf_counter() - t}})
     save_pack(pack, path)
@@ -82,6 +89,7 @@ def main(argv=None):
     parser.add_argument("--stresses", type=float, nargs="+", default=(10.0, 30.0, 100.0))
     parser.add_argument("--strain-step", type=float, default=2e-3)
     parser.add_argument("--protocols", nargs="+", default=("sequential", "lattice"))
+    parser.add_argument("--variants", nargs="*", default=tuple(VARIANTS), choices=VARIANTS)
     parser.add_argument("--no-compaction", action="store_true")
     args = parser.parse_args(argv)
     size = tuple(args.size)
@@ -96,6 +104,14 @@ def main(argv=None):
                              coordination_number=coordination_number(p),
                              steps=p.metadata["steps"], seconds=p.metadata["seconds"]))
             print(rows[-1], flush=True)
+    for variant in args.variants:
+        p = _settled(size, "sequential", 0, variant)
+        rows.append(dict(case=f"deposition_{variant}", protocol="sequential", seed=0,
+                         n_grains=p.n_grains, porosity=p.metadata["porosity"],
+                         porosity_from_floor=p.metadata["porosity_from_floor"],
+                         coordination_number=coordination_number(p),
+                         steps=p.metadata["steps"], seconds=p.metadata["seconds"]))
+        print(rows[-1], flush=True)
     if not args.no_compaction:
         pack = _settled(size, args.protocols[0], 0)
         strain = 0.0                      # summed over the successive compactions
