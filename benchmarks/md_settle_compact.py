@@ -5,9 +5,9 @@
    release of all grains from a lattice, same seeds (``--seeds``, default 3), with the true
    contact stiffness throughout (``fall_stiffness_factor = 1``): core porosity (between the
    slabs a compaction freezes; the source: 0.412), porosity from the floor, coordination,
-   steps and wall time. Seeds ``range(--variant-seeds)`` (default seed 0) are also settled
-   sequentially with each wave released at rest (``deposition_gentle``) and with ten times
-   the drag (``deposition_drag500``).
+   steps and wall time. Sequential variants (``--variants NAME:SEEDS``): each wave released at
+   rest (``deposition_gentle``, seed 0) and ten times the drag (``deposition_drag500``,
+   seeds 0-2).
 2. ``compaction``: the first sequential pack compacted between frozen slabs to
    ``--stresses`` (MPa, default 10, 30, 100) in steps of ``--strain-step``: core porosity,
    sigma_zz and mean stress (virial with tangential forces), the force on the top slab per area,
@@ -90,8 +90,8 @@ def main(argv=None):
     parser.add_argument("--stresses", type=float, nargs="+", default=(10.0, 30.0, 100.0))
     parser.add_argument("--strain-step", type=float, default=2e-3)
     parser.add_argument("--protocols", nargs="+", default=("sequential", "lattice"))
-    parser.add_argument("--variants", nargs="*", default=tuple(VARIANTS), choices=VARIANTS)
-    parser.add_argument("--variant-seeds", type=int, default=1)
+    parser.add_argument("--variants", nargs="*", default=("gentle:1", "drag500:3"),
+                        help="NAME[:SEEDS], variants of seed 0 (or of seeds 0 .. SEEDS-1)")
     parser.add_argument("--no-compaction", action="store_true")
     args = parser.parse_args(argv)
     size = tuple(args.size)
@@ -106,8 +106,11 @@ def main(argv=None):
                              coordination_number=coordination_number(p),
                              steps=p.metadata["steps"], seconds=p.metadata["seconds"]))
             print(rows[-1], flush=True)
-    for variant in args.variants:
-        for seed in range(args.variant_seeds):
+    for item in args.variants:
+        variant, _, count = item.partition(":")
+        if variant not in VARIANTS:
+            parser.error(f"--variants: unknown variant {variant!r}; valid: {', '.join(VARIANTS)}")
+        for seed in range(int(count or 1)):
             p = _settled(size, "sequential", seed, variant)
             rows.append(dict(case=f"deposition_{variant}", protocol="sequential", seed=seed,
                              n_grains=p.n_grains, porosity=p.metadata["porosity"],
