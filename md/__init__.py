@@ -1,16 +1,18 @@
 """md: a compact numba molecular-dynamics engine for grain packs (García & Medina 2007).
 
-SI units inside (m, kg, s, Pa). Built so far: Hertz–Mindlin contacts with restitution-calibrated
-damping and Coulomb friction (:mod:`md.contact`), the periodic box and cell-list neighbour search
+SI units inside (m, kg, s, Pa). Hertz–Mindlin contacts with restitution-calibrated damping and
+Coulomb friction (:mod:`md.contact`), the periodic box and cell-list neighbour search
 (:mod:`md.space`, :mod:`md.neighbors`), velocity-Verlet integration with the time step from the
-shortest contact (:mod:`md.integrate`), ballistic settling (:func:`md.settle`), compaction
-(:func:`md.compact`), packs saved to netCDF between stages (:mod:`md.state`), the cement lattice
-with contact, coating, pore-body and pendular growth (:mod:`md.cement`), the linearised acoustic
-stage (:mod:`md.acoustic`; grain–cement interface rules in :mod:`md.interface`) with the pulse
-test (:mod:`md.pulse`) and static moduli (:mod:`md.static`), one cemented contact against the
-cemented-contact theory (:mod:`md.cemented_contact`), and bonded-contact cement with
-static bulk and shear moduli (:mod:`md.bonded`); :mod:`md.calibrate` fits the effective-medium
-models of :mod:`rockcem` to MD results (the one md module that uses rockcem).
+stiffest linearised contacts of the current state (:mod:`md.integrate`), sequential ballistic
+deposition (:func:`md.settle`), compaction to a stress (:func:`md.compact`), porosity and stress
+of a pack's core window (:mod:`md.observe`), packs saved to netCDF between stages
+(:mod:`md.state`), the cement lattice with contact, coating, pore-body and pendular growth
+(:mod:`md.cement`), the linearised acoustic stage (:mod:`md.acoustic`; grain–cement interface
+rules in :mod:`md.interface`) with the pulse test (:mod:`md.pulse`) and static moduli
+(:mod:`md.static`), one cemented contact against the cemented-contact theory
+(:mod:`md.cemented_contact`), and bonded-contact cement with static bulk and shear moduli
+(:mod:`md.bonded`); :mod:`md.calibrate` fits the effective-medium models of :mod:`rockcem` to
+MD results (the one md module that uses rockcem).
 """
 
 from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
