@@ -106,7 +106,8 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
     parallel : bool
         Run the time steps (and the static cross-check) on the multi-threaded gather kernels of
         :mod:`md._kernels_parallel` (numba threads, ``numba.set_num_threads``); same result to
-        round-off.
+        round-off. On a 2-core machine this is about half as fast as the serial default
+        (``benchmarks/md_parallel_speed.py``): each bond is evaluated from both ends.
     progress : bool
         Show a progress bar (tqdm).
 
