@@ -15,8 +15,8 @@ from ._dynamics import refresh_neighbors, remap_history, time_step
 from .contact import damping_parameter
 from .deposit import settle
 from .neighbors import build_neighbors
-from .observe import (contact_stress, coordination_number, end_slabs, pack_stress, porosity,
-                      slab_core)
+from .observe import (contact_stress, coordination_number, end_slabs, pack_stress, pair_geometry,
+                      porosity, slab_core)
 from .space import Box
 from .state import Pack
 
@@ -42,9 +42,10 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
     state (:func:`md.integrate.contact_time_step`). After each increment the porosity and the
     contact stress of the core window between the slabs (:func:`md.observe.contact_stress`,
     normal and tangential forces, equal to the force on a slab per area) and the coordination
-    number of the mobile grains are recorded. The run stops at the first increment whose stress
-    reaches ``target_stress`` (Pa; the primary control, the source's confining stress) or, as an
-    option, whose porosity reaches ``target_porosity``.
+    number of the mobile grains (their contacts with frozen grains included) are recorded. The
+    run stops at the first increment whose stress reaches ``target_stress`` (Pa; the primary
+    control, the source's confining stress) or, as an option, whose porosity reaches
+    ``target_porosity``.
 
     With ``isotropic=True`` each increment also shrinks the periodic lengths in x and y (and
     the x, y positions with them) by ``strain_step``: an isotropic confinement, as Xu 2023
@@ -132,7 +133,7 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
     for _ in range(max_increments):
         centre = 0.5 * (x[:, 2].min() + x[:, 2].max())
         x[:, 2] = centre + (x[:, 2] - centre) * (1.0 - strain_step)
-        strain += strain_step
+        strain = 1.0 - (1.0 - strain) * (1.0 - strain_step)    # 1 - H / H_0, compounded
         if isotropic:                        # periodic images move in with the grains
             x[:, :2] *= 1.0 - strain_step
             box = Box(box.lx * (1.0 - strain_step), box.ly * (1.0 - strain_step), box.lz_min,
@@ -159,11 +160,11 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
                    hist.copy(), stage="compact")
         phi = porosity(cur, bottom=window[0], top=window[1])
         sigma = contact_stress(x, r, nl.pairs, box, mat, z_range=window, history=hist)
-        mobile = Pack(x[~fixed], v[~fixed], w[~fixed], r[~fixed], box, mat,
-                      np.zeros((0, 2), np.int32), np.zeros((0, 3)))
+        in_contact = nl.pairs[pair_geometry(x, r, nl.pairs, box)[2] > 0.0]
+        contacts = np.bincount(in_contact.ravel(), minlength=n)
         record["strain"].append(strain)
         record["porosity"].append(phi)
-        record["coordination_number"].append(coordination_number(mobile))
+        record["coordination_number"].append(float(contacts[~fixed].mean()))
         record["stress_zz"].append(float(sigma[2, 2]))
         record["stress_mean"].append(float(np.trace(sigma)) / 3.0)
         bar.update(1)

@@ -135,3 +135,31 @@ def test_isotropic_compaction_shrinks_the_periodic_box(settled):
     assert rec["stress_mean"][-1] >= 1e6 and all(s < 1e6 for s in rec["stress_mean"][:-1])
     assert rec["porosity"][-1] < settled.metadata["porosity"]
     assert c.metadata["isotropic"] is True
+
+
+def test_recorded_strain_is_the_height_change(settled, compacted):
+    """The frozen slabs hold the lowest and highest grains and move only with the affine
+    steps, so the recorded strain is 1 - H/H_0 of the span of the grain centres (the
+    increments compound: k steps of s give 1 - (1 - s)^k, not k s)."""
+    rec = compacted.metadata["record"]
+    h0 = np.ptp(settled.positions[:, 2])
+    h = np.ptp(compacted.positions[:, 2])
+    assert len(rec["strain"]) >= 2
+    assert rec["strain"][-1] == pytest.approx(1.0 - h / h0, rel=1e-9)
+
+
+def test_recorded_coordination_counts_contacts_with_the_slabs(compacted):
+    """The coordination number of the mobile grains, counted here over all pairs by brute
+    force (minimum image in x and y), includes their contacts with frozen slab grains."""
+    c = compacted
+    x, r = c.positions, c.radii
+    d = x[None, :, :] - x[:, None, :]
+    d[..., 0] -= c.box.lx * np.round(d[..., 0] / c.box.lx)
+    d[..., 1] -= c.box.ly * np.round(d[..., 1] / c.box.ly)
+    touch = np.linalg.norm(d, axis=2) < r[:, None] + r[None, :]
+    np.fill_diagonal(touch, False)
+    mobile = np.ones(c.n_grains, bool)
+    mobile[c.metadata["frozen_grains"]] = False
+    assert touch[mobile][:, ~mobile].any()          # some mobile grains touch a slab
+    expected = touch[mobile].sum(axis=1).mean()
+    assert c.metadata["coordination_number"] == pytest.approx(expected, rel=1e-12)
