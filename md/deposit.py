@@ -37,6 +37,8 @@ def drop_speed(height, drag, gravity=GRAVITY):
     height = float(height)
     if not height >= 0:
         raise ValueError(f"height must be >= 0 m; got {height}")
+    if not drag >= 0:
+        raise ValueError(f"drag must be >= 0 1/s; got {drag}")
     if drag == 0 or height == 0:
         return float(np.sqrt(2.0 * gravity * height))
     from scipy.optimize import brentq
@@ -253,6 +255,10 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
         raise ValueError("fall_stiffness_factor must lie in (0, 1]")
     if not drag >= 0:
         raise ValueError("drag must be >= 0")
+    if not kinetic_tolerance > 0:
+        raise ValueError(f"kinetic_tolerance must be > 0; got {kinetic_tolerance}")
+    if not max_time > 0:
+        raise ValueError(f"max_time must be > 0 s; got {max_time}")
     d = 2.0 * r_max
     lx, ly, height = size[0] * d, size[1] * d, size[2] * d
     drop_height = 1.5 * height if drop_height is None else float(drop_height)

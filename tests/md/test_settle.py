@@ -88,6 +88,8 @@ def test_drop_speed_against_the_integrated_fall():
     assert drop_speed(1.0, 500.0) == pytest.approx(9.81 / 500.0, rel=1e-14)
     with pytest.raises(ValueError, match="height"):
         drop_speed(-1.0, k)
+    with pytest.raises(ValueError, match="drag"):          # was a negative speed
+        drop_speed(1e-3, -k)
 
 
 def test_settled_pack_round_trip(pack, tmp_path):
@@ -106,6 +108,8 @@ def test_settled_pack_round_trip(pack, tmp_path):
     (dict(drop_height=0.0), "drop_height"),
     (dict(fall_stiffness_factor=0.0), "fall_stiffness_factor"),
     (dict(drag=-1.0), "drag"),
+    (dict(kinetic_tolerance=0.0), "kinetic_tolerance"),
+    (dict(max_time=-1.0), "max_time"),
 ])
 def test_settle_bad_input(kwargs, match):
     with pytest.raises(ValueError, match=match):
