@@ -127,6 +127,7 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
               "stress_mean": []}
     strain = 0.0
     steps = 0
+    elapsed = 0.0
     from tqdm.auto import tqdm
 
     bar = tqdm(total=max_increments, desc="compact", unit="step", disable=not progress)
@@ -148,6 +149,7 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
                        mat.G_f, beta, v_ref, mat.friction, dt, 200, 0.0, 0, np.zeros(0),
                        -np.inf, np.zeros((0, 3)), float(drag), fixed)
             steps += 200
+            elapsed += 200 * dt
             nl, hist = refresh_neighbors("compact", nl, hist, x, r, box, skin, mat)
             ke = 0.5 * np.sum(m[:, None] * v * v)
             pe = elastic_energy(x, r, nl.pairs, np.array([box.lx, box.ly]), mat.E_f)
@@ -157,7 +159,7 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
             raise RuntimeError("compact: the pack did not come to rest within an increment")
         window = slab_core(x[:, 2], r, fixed)
         cur = Pack(x.copy(), v.copy(), w.copy(), r, box, mat, np.asarray(nl.pairs, np.int32),
-                   hist.copy(), stage="compact")
+                   hist.copy(), stage="compact", time=pack.time + elapsed)
         phi = porosity(cur, bottom=window[0], top=window[1])
         sigma = contact_stress(x, r, nl.pairs, box, mat, z_range=window, history=hist)
         in_contact = nl.pairs[pair_geometry(x, r, nl.pairs, box)[2] > 0.0]

@@ -163,3 +163,19 @@ def test_recorded_coordination_counts_contacts_with_the_slabs(compacted):
     assert touch[mobile][:, ~mobile].any()          # some mobile grains touch a slab
     expected = touch[mobile].sum(axis=1).mean()
     assert c.metadata["coordination_number"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_compacted_pack_time_adds_the_compaction(settled, compacted):
+    """Pack.time is the simulated time at the end of the stage: the settling time plus the
+    compaction steps, each no longer than the time step of the settled state's stiffest
+    contact with no impact (contacts only stiffen under compaction); it was left at 0."""
+    from md.integrate import contact_time_step
+    from md.neighbors import build_neighbors
+
+    x, r = settled.positions, settled.radii
+    mobile = np.ones(settled.n_grains, bool)
+    mobile[compacted.metadata["frozen_grains"]] = False
+    pairs = build_neighbors(x, r, settled.box, 0.0).pairs
+    dt0 = contact_time_step(x, r, pairs, settled.box, settled.material, mobile=mobile)
+    elapsed = compacted.time - settled.time
+    assert 0 < elapsed <= compacted.metadata["compaction_steps"] * dt0
