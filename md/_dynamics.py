@@ -16,7 +16,7 @@ from .observe import contact_forces, expected_overlap, pair_geometry
 #: carries about 10 times the mean force, i.e. 10^(2/3) = 4.6 times the mean overlap; measured
 #: 2–3 (tests/md/test_observe.py, benchmarks/md_settle_compact.py up to 100 MPa).
 OVERLAP_FACTOR = 8.0
-#: Overlap limit, as a fraction of the smaller radius, at stresses where the scaled limit is
+#: Overlap limit, as a fraction of the mean radius, at stresses where the scaled limit is
 #: smaller (loose packs, impacts during settling: an impact at 1 m/s overlaps by 0.6 % of R).
 MIN_OVERLAP = 0.05
 

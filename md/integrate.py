@@ -20,11 +20,11 @@ STEPS_PER_PERIOD = 8
 
 def stable_time_step(material: GrainMaterial, radius_min, radius_max, v_ref, *,
                      steps_per_contact=50):
-    """Time step resolving the shortest contact: :math:`t_c / N`.
+    r"""Time step resolving the shortest contact: :math:`t_c / N`.
 
-    The shortest Hertz contact of the pack is that of the two smallest grains (smallest mass)
-    meeting the largest grain at the highest speed; it is bounded below by
-    :func:`md.contact.contact_time` for the smallest reduced mass and the reference speed.
+    The shortest Hertz contact of the pack is that of the two smallest grains meeting at the
+    highest speed (:math:`t_c \propto (m_f^2 / (E_f^2 R_f v))^{1/5} \propto R`):
+    :func:`md.contact.contact_time` for their reduced mass and radius at the reference speed.
 
     Parameters
     ----------
