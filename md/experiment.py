@@ -156,6 +156,9 @@ _PULSE_VARIABLES = {"v": "velocity", "err": "velocity_error",
                     "err_half_slab": "velocity_error_half_slab", "fit": "velocity_fit",
                     "static": "velocity_static", "density": "density"}
 
+#: Scene keys a pulse stage file is valid for (recorded in its attributes, checked on resume).
+_PULSE_KEYS = ("interface", "resolution", "wave", "time_step_factor", "seed")
+
 
 def _pulse_sweep(cementation, cement, path, progress):
     """Vp(scheme, saturation) of one pack and cement, saved to ``path`` (resumed if there)."""
@@ -169,10 +172,10 @@ def _pulse_sweep(cementation, cement, path, progress):
     if path.exists():
         with xr.open_dataset(path, engine="netcdf4") as ds:
             done = ds.load()
-        # A stage file from before a variable was added, or for another interface, schemes or
-        # saturations than the scene's now, is redone.
+        # A stage file from before a variable was added, or for another interface, resolution,
+        # wave, time step factor, seed, schemes or saturations than the scene's now, is redone.
         if set(_PULSE_VARIABLES.values()) <= set(done.data_vars) \
-                and done.attrs.get("interface") == params["interface"] \
+                and all(done.attrs.get(k) == params[k] for k in _PULSE_KEYS) \
                 and list(done.scheme.values) == list(params["schemes"]) \
                 and np.array_equal(done.saturation.values, params["saturations"]):
             return done
@@ -196,7 +199,7 @@ def _pulse_sweep(cementation, cement, path, progress):
         {var: (dims, out[key]) for key, var in _PULSE_VARIABLES.items()},
         coords={"scheme": list(schemes), "saturation": sats},
         attrs={"cell_width_m": lat.cell_width, "n_pore_cells": int(lat.index.size),
-               "interface": params["interface"]})
+               **{k: params[k] for k in _PULSE_KEYS}})
     _atomic_netcdf(result, path)
     return result
 

@@ -65,3 +65,42 @@ def test_md_scene_dataset_units_errors_and_cf(tmp_path):
 def test_md_scene_bad_interface_or_scheme(md, message):
     with pytest.raises(ValueError, match=message):
         _scene(**md)
+
+
+class _Redo(Exception):
+    pass
+
+
+class _NoCementation:
+    """Stands for :class:`md.experiment._Cementation`; redoing the pulse tests reaches its
+    lattice, which raises."""
+
+    def __init__(self, params):
+        self.pack, self.params = None, params
+
+    @property
+    def lattice(self):
+        raise _Redo
+
+
+@pytest.mark.parametrize("change", [{}, {"resolution": 6.0}, {"wave": "s"},
+                                    {"time_step_factor": 0.25}, {"seed": 1},
+                                    {"interface": "paper"}])
+def test_pulse_stage_file_redone_when_the_scene_changes(tmp_path, change):
+    from md.experiment import _PULSE_VARIABLES, _pulse_sweep
+
+    p = _scene()["md"]
+    shape = (len(p["schemes"]), len(p["saturations"]))
+    stage = xr.Dataset({v: (("scheme", "saturation"), np.full(shape, 2000.0))
+                        for v in _PULSE_VARIABLES.values()},
+                       coords={"scheme": p["schemes"], "saturation": p["saturations"]},
+                       attrs={k: p[k] for k in ("interface", "resolution", "wave",
+                                                "time_step_factor", "seed")})
+    path = tmp_path / "pulse_loose_hard.nc"
+    stage.to_netcdf(path)
+    now = _NoCementation({**p, **change})
+    if not change:                       # the same scene resumes from the file
+        np.testing.assert_array_equal(_pulse_sweep(now, None, path, False).velocity, 2000.0)
+    else:                                # a stage file of another Omega, wave, ... is redone
+        with pytest.raises(_Redo):
+            _pulse_sweep(now, None, path, False)
