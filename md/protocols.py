@@ -178,8 +178,10 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
                            f"(porosity {record['porosity'][-1]:.4f}, "
                            f"{stress_measure} {record[stress_measure][-1]:.3g} Pa)")
     bar.close()
+    # The settled pack's porosity from the floor does not describe the compacted one.
+    inherited = {k: val for k, val in pack.metadata.items() if k != "porosity_from_floor"}
     return dataclasses.replace(cur, metadata={
-        **pack.metadata, "record": record,
+        **inherited, "record": record,
         "record_units": {"strain": "1", "porosity": "1", "coordination_number": "1",
                          "stress_zz": "Pa", "stress_mean": "Pa"},
         "porosity": record["porosity"][-1], "stress_zz": record["stress_zz"][-1],

@@ -49,11 +49,14 @@ def test_compaction_to_a_stress(settled, compacted):
     assert 0.4 * rec["stress_zz"][-1] < rec["stress_mean"][-1] < rec["stress_zz"][-1]
 
 
-def test_porosity_of_a_compacted_pack_is_its_record(compacted):
+def test_porosity_of_a_compacted_pack_is_its_record(settled, compacted):
     """porosity(pack) measures the core window between the frozen slabs, the window of the
     compaction record (not from the original floor)."""
     rec = compacted.metadata["record"]
     assert porosity(compacted) == rec["porosity"][-1] == compacted.metadata["porosity"]
+    # No porosity of the settled pack is carried over under a name of the compacted one.
+    assert "porosity_from_floor" in settled.metadata
+    assert "porosity_from_floor" not in compacted.metadata
 
 
 def test_virial_equals_the_force_on_the_slabs(compacted):
