@@ -96,6 +96,13 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
         raise ValueError(f"target_stress must be > 0 Pa; got {target_stress}")
     if not 0 < strain_step < 0.05:
         raise ValueError("strain_step must lie in (0, 0.05)")
+    if not drag >= 0:
+        raise ValueError(f"drag must be >= 0 1/s; got {drag}")
+    if not rest_tolerance > 0:
+        raise ValueError(f"rest_tolerance must be > 0; got {rest_tolerance}")
+    if not (float(max_increments).is_integer() and max_increments >= 1):
+        raise ValueError(f"max_increments must be an integer >= 1; got {max_increments}")
+    max_increments = int(max_increments)
     if stress_measure is None:
         stress_measure = "stress_mean" if isotropic else "stress_zz"
     if stress_measure not in STRESS_MEASURES:

@@ -93,6 +93,9 @@ def test_compaction_to_a_porosity(settled):
     (dict(target_stress=-1.0), "target_stress"),
     (dict(target_stress=1e6, strain_step=0.5), "strain_step"),
     (dict(target_stress=1e6, slab=10.0), "slab"),
+    (dict(target_stress=1e6, max_increments=0), "max_increments"),
+    (dict(target_stress=1e6, rest_tolerance=0.0), "rest_tolerance"),
+    (dict(target_stress=1e6, drag=-1.0), "drag"),
 ])
 def test_compaction_bad_input(settled, kwargs, match):
     with pytest.raises(ValueError, match=match):
