@@ -169,8 +169,8 @@ def expected_overlap(stress, radius, porosity, coordination, material):
         Overlap, m.
     """
     stress = np.asarray(stress, dtype=float)
-    if np.any(stress < 0):
-        raise ValueError("stress must be >= 0 Pa")
+    if not np.all(stress >= 0):
+        raise ValueError("stress must be >= 0 Pa (and not NaN)")
     if not 0 < porosity < 1 or not coordination > 0 or not radius > 0:
         raise ValueError("need radius > 0, porosity in (0, 1) and coordination > 0")
     force = 4.0 * np.pi * radius**2 * stress / (coordination * (1.0 - porosity))

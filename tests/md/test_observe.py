@@ -71,6 +71,8 @@ def test_expected_overlap_of_a_simple_cubic_lattice():
     assert expected_overlap(p, R, 1 - np.pi / 6, 6.0, QUARTZ) == pytest.approx(xi, rel=1e-9)
     with pytest.raises(ValueError, match="stress"):
         expected_overlap(-1.0, R, 0.4, 6.0, QUARTZ)
+    with pytest.raises(ValueError, match="stress"):         # was a silent NaN
+        expected_overlap(np.nan, R, 0.4, 6.0, QUARTZ)
 
 
 def test_overlap_limit_scales_with_the_stress_and_catches_a_blow_up():
