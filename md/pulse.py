@@ -94,7 +94,7 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
         :math:`\\tau`, s; default twice the time a wave at the static velocity takes to cross
         one slab.
     max_time : float, optional
-        Simulated time, s. By default the run lasts :math:`\\tau` plus 1.5 times the
+        Simulated time, s, ``> 0``. By default the run lasts :math:`\\tau` plus 1.5 times the
         static-velocity travel time to the far detector and is extended (up to 20 times) until
         the far detector's first pulse has passed.
     record_every : int
@@ -159,6 +159,8 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
     tau = 2.0 * h / static.velocity if pulse_duration is None else float(pulse_duration)
     if not tau > 0:
         raise ValueError(f"pulse_duration must be > 0 s; got {pulse_duration}")
+    if max_time is not None and not float(max_time) > 0:
+        raise ValueError(f"max_time must be > 0 s; got {max_time}")
     travel = (centres[s2] - centres[0]) / static.velocity
     t_run = tau + 1.5 * travel if max_time is None else float(max_time)
     t_cap = 20.0 * t_run if max_time is None else t_run

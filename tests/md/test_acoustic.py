@@ -205,7 +205,9 @@ def test_bad_knobs(cemented_cubic):
     for kwargs, match in [(dict(time_step_factor=1.5), "time_step_factor"),
                           (dict(record_every=0), "record_every"),
                           (dict(detectors=(0, 2)), "detectors"),
-                          (dict(pulse_duration=-1.0), "pulse_duration")]:
+                          (dict(pulse_duration=-1.0), "pulse_duration"),
+                          (dict(max_time=-1e-6), "max_time"), (dict(max_time=0.0), "max_time"),
+                          (dict(max_time=float("nan")), "max_time")]:
         with pytest.raises(ValueError, match=match):
             pulse_test(system, **kwargs)
     with pytest.raises(ValueError, match="wave"):
