@@ -94,12 +94,17 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     the reaction on the fixed slab over the box area (the same through every horizontal section);
     the strain is the slope of a least-squares line through the centres of mass of the interior
     slabs (their load-path particles) in :math:`(z, u_z)` — the part of the sample the pulse test's
-    detectors see. ``rtol`` is the CG tolerance, ``maxiter`` its iteration cap (default 20 per
-    free degree of freedom); ``parallel`` applies the operator with the multi-threaded gather
+    detectors see. ``rtol`` is the CG tolerance, in (0, 1), ``maxiter`` its iteration cap
+    (an integer >= 1; default 20 per free degree of freedom); ``parallel`` applies the operator with the multi-threaded gather
     kernels (:meth:`md.AcousticSystem.forces`).
     """
     import scipy.sparse.linalg as spla
 
+    if not 0.0 < rtol < 1.0:
+        raise ValueError(f"rtol must lie in (0, 1); got {rtol}")
+    if maxiter is not None and (isinstance(maxiter, bool) or int(maxiter) != maxiter
+                                or maxiter < 1):
+        raise ValueError(f"maxiter must be an integer >= 1 or None; got {maxiter!r}")
     slab, n_slabs, flag = _prescribed(system)
     n = system.n_particles
     amp = 1e-6 * system.slab_thickness

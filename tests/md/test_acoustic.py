@@ -212,6 +212,10 @@ def test_bad_knobs(cemented_cubic):
             pulse_test(system, **kwargs)
     with pytest.raises(ValueError, match="wave"):
         static_modulus(system, "q")
+    for kwargs, match in [(dict(rtol=0.0), "rtol"), (dict(rtol=float("nan")), "rtol"),
+                          (dict(maxiter=0), "maxiter"), (dict(maxiter=2.5), "maxiter")]:
+        with pytest.raises(ValueError, match=match):
+            static_modulus(system, **kwargs)
     with pytest.raises(ValueError, match="rule"):
         lattice_constants(HARD_CEMENT, CW, "exact")
     with pytest.raises(ValueError, match="4"):
