@@ -95,8 +95,8 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     the strain is the slope of a least-squares line through the centres of mass of the interior
     slabs (their load-path particles) in :math:`(z, u_z)` — the part of the sample the pulse test's
     detectors see. ``rtol`` is the CG tolerance, in (0, 1), ``maxiter`` its iteration cap
-    (an integer >= 1; default 20 per free degree of freedom); ``parallel`` applies the operator with the multi-threaded gather
-    kernels (:meth:`md.AcousticSystem.forces`).
+    (an integer >= 1; default 20 per free degree of freedom); ``parallel`` applies the operator
+    with the multi-threaded gather kernels (:meth:`md.AcousticSystem.forces`).
     """
     import scipy.sparse.linalg as spla
 
