@@ -109,6 +109,8 @@ def md_scene_from_dict(raw: dict) -> dict:
             raise _bad(key, f"has {bad[0]!r}; valid: {', '.join(valid)}")
     if not all(0.0 <= s <= 1.0 for s in p["saturations"]):
         raise _bad("saturations", f"must lie in [0, 1]; got {p['saturations']}")
+    if p["seed"] < 0:
+        raise _bad("seed", f"must be an integer >= 0; got {p['seed']}")
     if not p["compaction_stress"] > 0:
         raise _bad("compaction_stress", f"must be > 0 MPa; got {p['compaction_stress']}")
     if not p["resolution"] >= 1:

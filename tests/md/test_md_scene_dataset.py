@@ -61,6 +61,7 @@ def test_md_scene_dataset_units_errors_and_cf(tmp_path):
 @pytest.mark.parametrize("md, message", [
     ({"interface": "cell"}, r"md.interface must be 'patch' or 'paper'"),
     ({"schemes": ["pendulum"]}, r"md.schemes has 'pendulum'; valid: .*pendular"),
+    ({"seed": -1}, r"md.seed must be an integer >= 0"),
 ])
 def test_md_scene_bad_interface_or_scheme(md, message):
     with pytest.raises(ValueError, match=message):
