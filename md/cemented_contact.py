@@ -131,16 +131,16 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
                               material: GrainMaterial = QUARTZ,
                               cement: CementMaterial = HARD_CEMENT,
                               interface="patch") -> ContactStiffness:
-    """Static normal and tangential stiffness of one cemented contact on the lattice.
+    r"""Static normal and tangential stiffness of one cemented contact on the lattice.
 
     Parameters
     ----------
     radius_ratio : float
         :math:`\alpha = a/R`, in (0, 0.9].
     resolution : float
-        :math:`\\Omega = R/c_w`, ``>= 2``; the gap at the rim, :math:`R\alpha^2`
+        :math:`\Omega = R/c_w`, ``>= 2``; the gap at the rim, :math:`R\alpha^2`
         (touching grains), must hold cell centres, so small :math:`\alpha` needs
-        :math:`\\Omega \\gtrsim 2/\alpha^2`.
+        :math:`\Omega \gtrsim 2/\alpha^2`.
     radius : float
         :math:`R`, m.
     thickness_ratio : float

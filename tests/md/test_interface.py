@@ -179,3 +179,17 @@ def test_bad_contact_input():
         theory_contact_stiffness(0.3, limit="rigid_grains")
     with pytest.raises(ValueError, match="interface"):
         lattice_contact_stiffness(0.5, 8, interface="cell")
+
+
+def test_docstrings_hold_no_escaped_control_characters():
+    """A TeX command in a non-raw docstring (\\alpha, \\varepsilon) turns into a control
+    character (BEL, VT) and the formula is lost."""
+    import inspect
+
+    import md.cemented_contact
+    import md.interface
+
+    for module in (md.cemented_contact, md.interface):
+        for obj in (module, *(getattr(module, n) for n in module.__all__)):
+            doc = inspect.getdoc(obj) or ""
+            assert not any(c in doc for c in "\a\b\f\v"), obj
