@@ -42,6 +42,18 @@ class ContactStiffness(NamedTuple):
     tangential: float
 
 
+def _check_contact(radius_ratio, radius, thickness_ratio):
+    """``(alpha, eps, R)`` as floats, or a ValueError naming the input out of range."""
+    alpha, eps, R = float(radius_ratio), float(thickness_ratio), float(radius)
+    if not 0.0 < alpha <= 0.9:
+        raise ValueError(f"radius_ratio must lie in (0, 0.9]; got {radius_ratio}")
+    if not (np.isfinite(eps) and eps >= 0):
+        raise ValueError(f"thickness_ratio must be >= 0; got {thickness_ratio}")
+    if not (np.isfinite(R) and R > 0):
+        raise ValueError(f"radius must be > 0 m; got {radius}")
+    return alpha, eps, R
+
+
 def _cemented_cells(alpha, resolution, eps):
     """Centres (in units of R, contact plane at z = 0, axis x = y = 0) of the cells of a lattice
     of width 1/Omega (cell faces on the axis planes) that lie in the cement body, their
@@ -95,13 +107,9 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     from .interface import interface_stiffness
     from .space import Box
 
-    alpha, eps, R = float(radius_ratio), float(thickness_ratio), float(radius)
-    if not 0.0 < alpha <= 0.9:
-        raise ValueError(f"radius_ratio must lie in (0, 0.9]; got {radius_ratio}")
+    alpha, eps, R = _check_contact(radius_ratio, radius, thickness_ratio)
     if not resolution >= 2.0:
         raise ValueError(f"resolution must be >= 2 cells per radius; got {resolution}")
-    if not (np.isfinite(eps) and eps >= 0):
-        raise ValueError(f"thickness_ratio must be >= 0; got {thickness_ratio}")
     centre, flat, shape = _cemented_cells(alpha, float(resolution), eps)
     if centre.shape[0] == 0:
         raise ValueError(f"no cell of width R/{resolution:g} lies in the cement (a/R = {alpha:g}, "
@@ -209,7 +217,7 @@ def theory_contact_stiffness(radius_ratio, *, radius=1e-4, thickness_ratio=0.0,
     """
     from rockcem.contact_integral import cemented_contact_stiffness
 
-    R, alpha, eps = float(radius), float(radius_ratio), float(thickness_ratio)
+    alpha, eps, R = _check_contact(radius_ratio, radius, thickness_ratio)
     G, nu = material.shear_modulus, material.poisson_ratio
     Mc, Gc = cement.p_modulus, cement.shear_modulus
     if limit == "rigid_cement":

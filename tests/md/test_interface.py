@@ -177,6 +177,17 @@ def test_bad_contact_input():
         lattice_contact_stiffness(0.1, 4)
     with pytest.raises(ValueError, match="thickness_ratio > 0"):
         theory_contact_stiffness(0.3, limit="rigid_grains")
+    for limit in (None, "rigid_grains", "rigid_cement"):       # no negative stiffness
+        with pytest.raises(ValueError, match="radius_ratio"):
+            theory_contact_stiffness(-0.2, thickness_ratio=0.01, limit=limit)
+        with pytest.raises(ValueError, match="radius_ratio"):
+            theory_contact_stiffness(1.5, thickness_ratio=0.01, limit=limit)
+        with pytest.raises(ValueError, match="thickness_ratio"):
+            theory_contact_stiffness(0.3, thickness_ratio=-0.01, limit=limit)
+        with pytest.raises(ValueError, match="radius must"):
+            theory_contact_stiffness(0.3, radius=-1e-4, thickness_ratio=0.01, limit=limit)
+    with pytest.raises(ValueError, match="radius must"):
+        lattice_contact_stiffness(0.5, 8, radius=0.0)
     with pytest.raises(ValueError, match="interface"):
         lattice_contact_stiffness(0.5, 8, interface="cell")
 
