@@ -107,6 +107,10 @@ def md_scene_from_dict(raw: dict) -> dict:
         bad = [x for x in p[key] if x not in valid]
         if bad:
             raise _bad(key, f"has {bad[0]!r}; valid: {', '.join(valid)}")
+    for key in ("samples", "schemes", "cements", "saturations"):
+        repeated = sorted({x for x in p[key] if p[key].count(x) > 1})
+        if repeated:        # a repeated label would give the output a repeated coordinate
+            raise _bad(key, f"lists {repeated[0]!r} more than once")
     if not all(0.0 <= s <= 1.0 for s in p["saturations"]):
         raise _bad("saturations", f"must lie in [0, 1]; got {p['saturations']}")
     if p["seed"] < 0:

@@ -61,6 +61,8 @@ def test_md_scene_dataset_units_errors_and_cf(tmp_path):
 @pytest.mark.parametrize("md, message", [
     ({"interface": "cell"}, r"md.interface must be 'patch' or 'paper'"),
     ({"schemes": ["pendulum"]}, r"md.schemes has 'pendulum'; valid: .*pendular"),
+    ({"saturations": [0.0, 0.1, 0.1]}, r"md.saturations lists 0.1 more than once"),
+    ({"cements": ["hard", "hard"]}, r"md.cements lists 'hard' more than once"),
     ({"seed": -1}, r"md.seed must be an integer >= 0"),
 ])
 def test_md_scene_bad_interface_or_scheme(md, message):
