@@ -284,6 +284,14 @@ def gershgorin_rows(n_particles, bi, bj, nrm, kn, kt, table, first, lat_nrm, lat
     return rows
 
 
+@njit(cache=True, inline="always")
+def record_slabs(record, row, slab, sz):
+    """Row ``row`` of the slab signals: the particles' ``sz`` summed per slab."""
+    record[row, :] = 0.0
+    for p in range(slab.size):
+        record[row, slab[p]] += sz[p]
+
+
 @njit(cache=True)
 def leapfrog_run(u, v, inv_m, flag, slab, n_slabs, bi, bj, nrm, kn, kt, gn, gt, table, first,
                  lat_nrm, lat_kn, lat_kt, dt, t0, n_steps, amplitude, duration, every, ax, record):
@@ -306,11 +314,7 @@ def leapfrog_run(u, v, inv_m, flag, slab, n_slabs, bi, bj, nrm, kn, kt, gn, gt, 
         contact_forces(u, v, bi, bj, nrm, kn, kt, gn, gt, f, sz, want, ax)
         lattice_forces(u, table, first, lat_nrm, lat_kn, lat_kt, f, sz, want, ax)
         if want:
-            row = step // every
-            for s in range(n_slabs):
-                record[row, s] = 0.0
-            for p in range(n):
-                record[row, slab[p]] += sz[p]
+            record_slabs(record, step // every, slab, sz)
         t_next = t0 + (step + 1) * dt
         drive = amplitude if t_next < duration else 0.0
         for p in range(n):

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ._kernels_acoustic import bond_force
+from ._kernels_acoustic import bond_force, record_slabs
 
 __all__ = ["full_lattice_table", "contact_lists", "gather_forces", "leapfrog_run_parallel"]
 
@@ -124,11 +124,7 @@ def leapfrog_run_parallel(u, v, inv_m, flag, slab, n_slabs, start, cbond, csign,
         gather_forces(u, v, start, cbond, csign, bi, bj, nrm, kn, kt, gn, gt, full, first,
                       lat_nrm, lat_kn, lat_kt, f, sz, want, ax)
         if want:
-            row = step // every
-            for s in range(n_slabs):
-                record[row, s] = 0.0
-            for p in range(n):
-                record[row, slab[p]] += sz[p]
+            record_slabs(record, step // every, slab, sz)
         t_next = t0 + (step + 1) * dt
         drive = amplitude if t_next < duration else 0.0
         _update(u, v, f, inv_m, flag, dt, drive, ax)
