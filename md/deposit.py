@@ -136,12 +136,12 @@ def _wave_positions(rng, run, radii, z_insert, tries=200):
     return placed
 
 
-def _sequential(run, rng, radii, mat, wave, drop_height, d, v_ref):
+def _sequential(run, rng, radii, mat, wave, drop_height, d, v_ref, bar=None):
     """Drop ``radii`` in waves of ``wave`` grains; each wave starts one largest radius above
     the highest grain with the speed of a fall from ``drop_height`` and the next is released
     once every grain of the previous one is a diameter below where it started or has landed
     (slower than a tenth of the largest fall speed). ``v_ref``: speed of the restitution
-    calibration, m/s."""
+    calibration, m/s. ``bar``: a progress bar advanced by one per wave released."""
     v_terminal = GRAVITY / run.drag if run.drag > 0 else np.inf
     v_bound = min(v_terminal, np.sqrt(2.0 * GRAVITY * max(drop_height, d)))
     start, waves = 0, 0
@@ -161,6 +161,8 @@ def _sequential(run, rng, radii, mat, wave, drop_height, d, v_ref):
             run.add(pos, vel, wave_r)
             start += wave_r.size
             waves += 1
+            if bar is not None:
+                bar.update(1)
         run.advance(mat, v_ref, v_bound, 2e-3)
     return waves, v_bound
 
@@ -278,7 +280,6 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
                                * fall_stiffness_factor) if fall_stiffness_factor < 1 else material
     from tqdm.auto import tqdm
 
-    bar = tqdm(desc="settle", unit="chunk", disable=not progress)
     extra = {}
     # The restitution e_n holds at the terminal speed (the same contact law whatever the drop
     # height), without drag at the free fall from the drop height or the top of the lattice.
@@ -286,7 +287,10 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
     if protocol == "sequential":
         v_ref = min(v_terminal, np.sqrt(2.0 * GRAVITY * drop_height)) if drag == 0 \
             else v_terminal
-        waves, v_bound = _sequential(run, rng, radii, soft, wave, drop_height, d, v_ref)
+        with tqdm(desc="settle: deposition", unit="wave", total=-(-n // wave),
+                  disable=not progress) as bar:
+            waves, v_bound = _sequential(run, rng, radii, soft, wave, drop_height, d, v_ref,
+                                         bar)
         extra = {"wave": wave, "waves": waves, "drop_height_m": drop_height}
     else:
         v_fall = _lattice(run, rng, radii, d, lx, ly)
@@ -296,6 +300,7 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
     e_scale = 4.0 / 3.0 * np.pi * r_max**3 * material.density * GRAVITY * d
     # Falling and settling (impacts up to v_bound), then, after softer falling, at rest again
     # with the true stiffness (the time step from the contacts and the grains' own speeds).
+    bar = tqdm(desc="settle: to rest", unit="chunk", disable=not progress)
     stages = [(soft, v_bound, 2e-3, 0.01)]
     if soft is not material:
         stages.append((material, 0.0, 2e-4, 0.0))

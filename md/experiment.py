@@ -3,9 +3,9 @@ and measure its velocity by the pulse test (García & Medina, Sects. III–IV).
 
 A scene is a TOML table ``[md]`` (see :data:`MD_SCHEMA`, printed by :func:`schema_lines`);
 ``rockcem run`` hands such files here. Every stage is saved in the scene's work folder —
-``loose/settle.nc``, ``compacted/compact.nc`` and one ``pulse_<sample>_<cement>.nc`` per sample
-and cement — so an interrupted run resumes from the last saved stage. SI units inside; the scene
-file gives the compaction stress in MPa.
+``pack/settle.nc``, ``pack/compact.nc`` and one file per pulse test under ``pulse/`` — so an
+interrupted run resumes from the last saved stage. The pulse tests are independent and can run
+on several processes. SI units inside; the scene file gives the compaction stress in MPa.
 """
 
 from __future__ import annotations
@@ -33,6 +33,9 @@ MD_SCHEMA = {
     "samples": (["loose", "compacted"], "strings", "", "loose and/or compacted pack"),
     "compaction_stress": (10.0, "number", "MPa", "stress the compacted sample is taken to"),
     "resolution": (3.0, "number", "cells per radius", "cement lattice resolution Omega"),
+    "resolution_check": (0.0, "number", "cells per radius",
+                         "coarser Omega every cemented member is also run at, for the "
+                         "resolution error (0 = none)"),
     "schemes": (list(_SCHEMES[:3]), "strings", "",
                 "cementation schemes: the source's contact, coating, pore_body; pendular"),
     "interface": ("patch", "string", "",
@@ -119,6 +122,9 @@ def md_scene_from_dict(raw: dict) -> dict:
         raise _bad("compaction_stress", f"must be > 0 MPa; got {p['compaction_stress']}")
     if not p["resolution"] >= 1:
         raise _bad("resolution", f"must be >= 1; got {p['resolution']}")
+    if p["resolution_check"] != 0 and not 1 <= p["resolution_check"] < p["resolution"]:
+        raise _bad("resolution_check", f"must be 0 (none) or lie in [1, resolution = "
+                                       f"{p['resolution']:g}); got {p['resolution_check']:g}")
     if p["interface"] not in _INTERFACES:
         raise _bad("interface", f"must be 'patch' or 'paper'; got {p['interface']!r}")
     if p["wave"] not in ("p", "s"):
@@ -157,61 +163,175 @@ class _Cementation:
         return self._cells[scheme][saturation]
 
 
-#: Pulse-test results kept per (scheme, saturation): stage-file name -> pulse_test variable.
+#: Pulse-test results kept per member: key -> :func:`md.pulse_test` variable.
 _PULSE_VARIABLES = {"v": "velocity", "err": "velocity_error",
                     "err_half_slab": "velocity_error_half_slab", "fit": "velocity_fit",
                     "static": "velocity_static", "density": "density"}
 
-#: Scene keys a pulse stage file is valid for (recorded in its attributes, checked on resume).
-_PULSE_KEYS = ("interface", "resolution", "wave", "time_step_factor", "seed")
+#: Scene keys a cemented member's stage file is valid for (recorded in its attributes, checked
+#: on resume); the uncemented member depends on the pack, the wave and the time step only.
+_PULSE_KEYS = ("interface", "wave", "time_step_factor", "seed")
+_UNCEMENTED_KEYS = ("wave", "time_step_factor")
 
 
-def _pulse_sweep(cementation, cement, path, progress):
-    """Vp(scheme, saturation) of one pack and cement, saved to ``path`` (resumed if there)."""
+class _Member:
+    """One pulse test of a study: a pack (sample), cement, scheme, saturation and resolution.
+    The uncemented member (S_c = 0) does not depend on the cement, scheme or resolution and is
+    run once per sample."""
+
+    __slots__ = ("sample", "cement", "scheme", "saturation", "resolution")
+
+    def __init__(self, sample, cement, scheme, saturation, resolution):
+        bare = saturation == 0
+        self.sample, self.saturation = sample, float(saturation)
+        self.cement = None if bare else cement
+        self.scheme = None if bare else scheme
+        self.resolution = None if bare else float(resolution)
+
+    def key(self):
+        return (self.sample, self.cement, self.scheme, self.saturation, self.resolution)
+
+    def __eq__(self, other):
+        return self.key() == other.key()
+
+    def __hash__(self):
+        return hash(self.key())
+
+    def file(self, folder):
+        if self.cement is None:
+            return Path(folder) / "pulse" / f"{self.sample}_uncemented.nc"
+        return (Path(folder) / "pulse" / f"{self.sample}_{self.cement}_{self.scheme}"
+                f"_sc{self.saturation:g}_omega{self.resolution:g}.nc")
+
+    def attrs(self, params, pack_id):
+        keys = _UNCEMENTED_KEYS if self.cement is None else _PULSE_KEYS
+        out = {k: params[k] for k in keys}
+        out["pack_id"] = pack_id
+        if self.cement is not None:
+            out["resolution"] = self.resolution
+        return out
+
+    def cost(self):
+        """Relative cost for scheduling: particles ~ S_c Omega^3, steps ~ Omega."""
+        return 0.0 if self.cement is None else self.saturation * self.resolution**4
+
+
+def _pack_id(pack) -> str:
+    """A fingerprint of a pack's grains (positions and radii): a stage file made on another
+    pack (another seed, size or compaction) is redone."""
+    import hashlib
+
+    h = hashlib.sha1(np.ascontiguousarray(pack.positions).tobytes())
+    h.update(np.ascontiguousarray(pack.radii).tobytes())
+    return h.hexdigest()[:16]
+
+
+def _load_member(path, attrs):
+    """The saved result of a member, or None when there is none or it was made for other
+    settings (another interface, resolution, wave, time step, seed or pack) or before a
+    variable was added."""
     import xarray as xr
-    from tqdm.auto import tqdm
+
+    if not path.exists():
+        return None
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        done = ds.load()
+    if not set(_PULSE_VARIABLES.values()) | {"wall_time"} <= set(done.data_vars):
+        return None
+    if any(done.attrs.get(k) != v for k, v in attrs.items()):
+        return None
+    return {var: float(done[var]) for var in (*_PULSE_VARIABLES.values(), "wall_time")}
+
+
+#: Per-process cache of cement lattices and growths: (pack file, resolution) -> _Cementation.
+_CACHE: dict = {}
+
+
+def _cementation(pack_file, params, resolution):
+    from .state import load_pack
+
+    key = (str(pack_file), float(resolution))
+    if key not in _CACHE:
+        while len(_CACHE) >= 2:                   # at most two lattices held at a time
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = _Cementation(load_pack(pack_file), {**params, "resolution": resolution})
+    return _CACHE[key]
+
+
+def _run_member(pack_file, params, member, pack_id, folder):
+    """Run one member's pulse test and save it (atomically) to its stage file; the result is
+    returned as a dict of floats (SI) with its wall time, s."""
+    import time
+
+    import xarray as xr
 
     from .acoustic import acoustic_system, pulse_test
-    from .state import _atomic_netcdf
+    from .cement import HARD_CEMENT, SOFT_CEMENT
+    from .state import _atomic_netcdf, load_pack
 
-    pack, params = cementation.pack, cementation.params
-    if path.exists():
-        with xr.open_dataset(path, engine="netcdf4") as ds:
-            done = ds.load()
-        # A stage file from before a variable was added, or for another interface, resolution,
-        # wave, time step factor, seed, schemes or saturations than the scene's now, is redone.
-        if set(_PULSE_VARIABLES.values()) <= set(done.data_vars) \
-                and all(done.attrs.get(k) == params[k] for k in _PULSE_KEYS) \
-                and list(done.scheme.values) == list(params["schemes"]) \
-                and np.array_equal(done.saturation.values, params["saturations"]):
-            return done
-    lat = cementation.lattice
-    schemes, sats = params["schemes"], params["saturations"]
-    shape = (len(schemes), len(sats))
-    out = {k: np.full(shape, np.nan) for k in _PULSE_VARIABLES}
-    bar = tqdm(total=len(schemes) * len(sats), disable=not progress,
-               desc=f"pulse tests {path.stem}")
-    for a, scheme in enumerate(schemes):
-        for b, s in enumerate(sats):
-            system = acoustic_system(pack, lat, cementation.cells(scheme, s), cement,
-                                     interface=params["interface"])
-            ds = pulse_test(system, params["wave"], time_step_factor=params["time_step_factor"])
-            for key, var in _PULSE_VARIABLES.items():
-                out[key][a, b] = float(ds[var])
+    t0 = time.perf_counter()
+    if member.cement is None:
+        system = acoustic_system(load_pack(pack_file))
+    else:
+        cem = _cementation(pack_file, params, member.resolution)
+        material = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}[member.cement]
+        system = acoustic_system(cem.pack, cem.lattice,
+                                 cem.cells(member.scheme, member.saturation), material,
+                                 interface=params["interface"])
+    ds = pulse_test(system, params["wave"], time_step_factor=params["time_step_factor"])
+    out = {var: float(ds[var]) for var in _PULSE_VARIABLES.values()}
+    out["wall_time"] = time.perf_counter() - t0
+    stage = xr.Dataset({k: ((), v) for k, v in out.items()},
+                       attrs={**member.attrs(params, pack_id), "sample": member.sample,
+                              "cement": member.cement or "none",
+                              "scheme": member.scheme or "none",
+                              "saturation": member.saturation})
+    _atomic_netcdf(stage, member.file(folder))
+    return out
+
+
+def _run_members(todo, pack_files, params, pack_ids, folder, jobs, progress):
+    """Run the members not yet saved, on ``jobs`` processes (each member is independent; a
+    process keeps the lattice and growth of its last packs). Returns {member: result}."""
+    from tqdm.auto import tqdm
+
+    results = {}
+    # Longest first (the longest-processing-time rule), grouped by pack and resolution so a
+    # process reuses its lattice.
+    todo = sorted(todo, key=lambda m: (-(m.resolution or 0.0), m.sample, m.scheme or "",
+                                       -m.cost()))
+    bar = tqdm(total=len(todo), disable=not progress or not todo, desc="pulse tests",
+               unit="member")
+    if jobs <= 1 or len(todo) <= 1:
+        for m in todo:
+            results[m] = _run_member(pack_files[m.sample], params, m, pack_ids[m.sample],
+                                     folder)
             bar.update()
+    else:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        # "spawn": a fresh interpreter per process (no copy of a parent's numba threads).
+        with ProcessPoolExecutor(max_workers=min(jobs, len(todo)),
+                                 mp_context=multiprocessing.get_context("spawn")) as pool:
+            futures = {pool.submit(_run_member, pack_files[m.sample], params, m,
+                                   pack_ids[m.sample], folder): m for m in todo}
+            for fut in as_completed(futures):
+                results[futures[fut]] = fut.result()
+                bar.update()
     bar.close()
-    dims = ("scheme", "saturation")
-    result = xr.Dataset(
-        {var: (dims, out[key]) for key, var in _PULSE_VARIABLES.items()},
-        coords={"scheme": list(schemes), "saturation": sats},
-        attrs={"cell_width_m": lat.cell_width, "n_pore_cells": int(lat.index.size),
-               **{k: params[k] for k in _PULSE_KEYS}})
-    _atomic_netcdf(result, path)
-    return result
+    return results
 
 
-def run_md_scene(scene: dict, *, workdir=None, progress=False):
+def run_md_scene(scene: dict, *, workdir=None, jobs=1, progress=False):
     """Run an MD scene: packs → cement → pulse tests → one ``xarray.Dataset``.
+
+    Every pulse test (a *member*: sample, cement, scheme, saturation, resolution) is saved to
+    its own stage file under ``<workdir>/pulse`` as soon as it is done, so an interrupted run
+    resumes from the last finished member; members are independent and run on ``jobs``
+    processes. The uncemented pack (S_c = 0) is one member per sample, shared by every cement
+    and scheme. With ``resolution_check`` set, every cemented member is also run at that coarser
+    resolution and the difference gives the resolution error (first-order Richardson estimate).
 
     Parameters
     ----------
@@ -219,6 +339,8 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
         From :func:`md_scene_from_dict`.
     workdir : path, optional
         Stage files; default the scene's ``workdir`` or ``<output stem>_work``.
+    jobs : int
+        Processes for the pulse tests (default 1: in this process).
     progress : bool
 
     Returns
@@ -228,44 +350,75 @@ def run_md_scene(scene: dict, *, workdir=None, progress=False):
         the all-detector fit and the static velocity (km/s; their difference is the
         pulse-minus-static bias), ``porosity`` and ``density`` (g/cm³) over ``sample`` ×
         ``cement`` × ``scheme`` × ``saturation``; per sample the uncemented porosity,
-        coordination number, vertical and mean stress. CF-1.10 attributes.
+        coordination number, vertical and mean stress; the wall time of each member; with a
+        resolution check, the velocity at the coarser resolution and the resolution error.
+        CF-1.10 attributes.
     """
     import xarray as xr
 
-    from .cement import HARD_CEMENT, SOFT_CEMENT
     from .observe import coordination_number, pack_stress, porosity
     from .protocols import prepare_pack
 
+    if not (isinstance(jobs, int) and jobs >= 1):
+        raise ValueError(f"jobs must be an integer >= 1; got {jobs!r}")
     p = scene["md"]
     folder = Path(workdir or p["workdir"] or Path(scene["output"]).with_suffix("").name + "_work")
     folder.mkdir(parents=True, exist_ok=True)
     settle_opts = {"size": tuple(p["size"]), "radius_range": tuple(p["radius_range"]),
                    "seed": p["seed"], "fall_stiffness_factor": p["fall_stiffness_factor"]}
-    cements = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}
-    per_sample, phi0, coord, stress, stress_mean = [], [], [], [], []
+    pack_files, pack_ids = {}, {}
+    phi0, coord, stress, stress_mean = [], [], [], []
     for sample in p["samples"]:
         compact_opts = ({"target_stress": p["compaction_stress"] * 1e6}
                         if sample == "compacted" else None)
         pack = prepare_pack(folder / "pack", settle_options=settle_opts,
                             compact_options=compact_opts, progress=progress)
-        phi = porosity(pack)                 # the core window between the end slabs
-        sig = pack_stress(pack)              # same window, normal and tangential forces
-        phi0.append(phi)
+        pack_files[sample] = folder / "pack" / ("compact.nc" if compact_opts else "settle.nc")
+        pack_ids[sample] = _pack_id(pack)
+        phi0.append(porosity(pack))                 # the core window between the end slabs
+        sig = pack_stress(pack)                     # same window, normal and tangential forces
         coord.append(coordination_number(pack))
         stress.append(float(sig[2, 2]) / 1e6)
         stress_mean.append(float(np.trace(sig)) / 3e6)
-        cementation = _Cementation(pack, p)
-        runs = [_pulse_sweep(cementation, cements[c], folder / f"pulse_{sample}_{c}.nc",
-                             progress) for c in p["cements"]]
-        per_sample.append(xr.concat(runs, dim=xr.DataArray(p["cements"], dims="cement")))
-    ds = xr.concat(per_sample, dim=xr.DataArray(p["samples"], dims="sample"))
+    resolutions = [p["resolution"]] + ([p["resolution_check"]] if p["resolution_check"] else [])
+    grid = {(sample, c, scheme, s, res): _Member(sample, c, scheme, s, res)
+            for sample in p["samples"] for c in p["cements"] for scheme in p["schemes"]
+            for s in p["saturations"] for res in resolutions}
+    results, todo = {}, []
+    for m in set(grid.values()):
+        done = _load_member(m.file(folder), m.attrs(p, pack_ids[m.sample]))
+        if done is None:
+            todo.append(m)
+        else:
+            results[m] = done
+    results.update(_run_members(todo, pack_files, p, pack_ids, folder, jobs, progress))
+
+    dims = ("sample", "cement", "scheme", "saturation")
+    shape = tuple(len(p[f"{d}s"]) for d in dims)
+
+    def table(res, var):
+        out = np.empty(shape)
+        for idx in np.ndindex(shape):
+            sample, c, scheme, s = (p[f"{d}s"][i] for d, i in zip(dims, idx))
+            out[idx] = results[grid[(sample, c, scheme, s, res)]][var]
+        return out
+
+    fine = p["resolution"]
+    ds = xr.Dataset({var: (dims, table(fine, var))
+                     for var in (*_PULSE_VARIABLES.values(), "wall_time")})
+    if p["resolution_check"]:
+        ds["velocity_check"] = (dims, table(p["resolution_check"], "velocity"))
+    wall = sum(r["wall_time"] for r in results.values())
     return _scene_dataset(scene, ds, {"porosity_uncemented": phi0, "coordination_number": coord,
-                                      "stress": stress, "stress_mean": stress_mean})
+                                      "stress": stress, "stress_mean": stress_mean},
+                          member_seconds=wall)
 
 
-def _scene_dataset(scene, ds, per_sample):
+def _scene_dataset(scene, ds, per_sample, member_seconds=None):
     """The MD scene's output Dataset (CF attributes) from the pulse tests ``ds`` over
-    sample × cement × scheme × saturation (SI units) and the per-sample pack measures."""
+    sample × cement × scheme × saturation (SI units; optional ``wall_time`` of each member, s,
+    and ``velocity_check`` at the scene's ``resolution_check``) and the per-sample pack
+    measures; ``member_seconds`` is the summed wall time of the study's distinct members."""
     import json
 
     import xarray as xr
@@ -320,6 +473,23 @@ def _scene_dataset(scene, ds, per_sample):
                "interface": p["interface"],
                "references": "García & Medina (MD), Sects. III-IV, eqs. 4-11, Table II"},
     )
+    if "wall_time" in ds:
+        out["wall_time"] = ds.wall_time.assign_attrs(
+            units="s", long_name="wall time of the member's pulse test (lattice, growth and "
+                                 "linear system included; the uncemented member is shared)")
+    if "velocity_check" in ds:
+        fine, coarse = p["resolution"], p["resolution_check"]
+        out[f"v{w}_resolution_check"] = (ds.velocity_check / 1e3).assign_attrs(
+            kms, long_name=f"pulse velocity at the coarser resolution Omega = {coarse:g}")
+        # First-order Richardson estimate of the distance to the Omega -> infinity limit,
+        # |v(Omega) - v(Omega_c)| / (Omega/Omega_c - 1): the larger of the orders 1-1.6 that
+        # md_omega_convergence measured on a cemented pack (benchmarks/README.md).
+        out[f"v{w}_error_resolution"] = (abs(ds.velocity - ds.velocity_check) / 1e3
+                                         / (fine / coarse - 1.0)).assign_attrs(
+            kms, long_name=f"resolution error of the pulse velocity: first-order Richardson "
+                           f"estimate from Omega = {coarse:g} and {fine:g}")
+    if member_seconds is not None:
+        out.attrs["member_wall_time_s"] = float(member_seconds)
     for name in out.coords:           # CF 1.10 sect. 2.5.1: coordinates have no missing values
         out[name].encoding["_FillValue"] = None
     return out

@@ -7,8 +7,20 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 __all__ = ["main"]
+
+
+def _positive_int(text: str) -> int:
+    """argparse type: an integer >= 1 (a bad value exits with code 2 and one line)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1; got {text!r}")
+    return value
 
 
 def _materials(args) -> int:
@@ -55,7 +67,9 @@ def _run_md(raw, args) -> int:
 
     scene = md_scene_from_dict(raw)
     out = args.output or scene["output"]
-    ds = run_md_scene(scene, progress=not args.quiet)
+    # Stage files beside the output (<stem>_work), unless the scene names a folder.
+    work = scene["md"]["workdir"] or Path(out).with_name(Path(out).stem + "_work")
+    ds = run_md_scene(scene, workdir=work, jobs=args.jobs, progress=not args.quiet)
     path = write_dataset(ds, out)
     if not args.quiet:
         v = next(n for n in ds.data_vars if n in ("vp", "vs"))
@@ -215,6 +229,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None,
                    help="run a sweep on dask: 'local' or a scheduler address (needs [dask])")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
+    p.add_argument("-j", "--jobs", type=_positive_int, default=1,
+                   help="processes for the pulse tests of an MD scene (default 1)")
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")

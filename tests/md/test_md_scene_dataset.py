@@ -70,40 +70,62 @@ def test_md_scene_bad_interface_or_scheme(md, message):
         _scene(**md)
 
 
-class _Redo(Exception):
-    pass
+def test_md_scene_dataset_resolution_error_is_first_order_richardson():
+    scene = _scene(resolution=8.0, resolution_check=6.0)
+    pulses = _pulses(scene)
+    pulses["velocity_check"] = pulses.velocity - 300.0          # m/s below at the coarse Omega
+    pulses["wall_time"] = xr.full_like(pulses.velocity, 2.0)
+    out = _scene_dataset(scene, pulses, {"porosity_uncemented": [0.40, 0.38],
+                                         "coordination_number": [4.5, 5.6],
+                                         "stress": [0.01, 10.0], "stress_mean": [0.007, 6.8]},
+                         member_seconds=12.0)
+    # v(inf) - v(8) = (v(8) - v(6)) / (8/6 - 1) = 3 * 0.3 km/s at order 1.
+    np.testing.assert_allclose(out.vp_error_resolution, 0.9, rtol=1e-12)
+    np.testing.assert_allclose(out.vp - out.vp_resolution_check, 0.3, rtol=1e-12)
+    assert out.wall_time.attrs["units"] == "s" and out.attrs["member_wall_time_s"] == 12.0
 
 
-class _NoCementation:
-    """Stands for :class:`md.experiment._Cementation`; redoing the pulse tests reaches its
-    lattice, which raises."""
+@pytest.mark.parametrize("md, message", [
+    ({"resolution": 8.0, "resolution_check": 8.0}, r"md.resolution_check must be 0 \(none\) or "
+                                                   r"lie in \[1, resolution = 8\)"),
+    ({"resolution_check": 0.5}, r"md.resolution_check"),
+])
+def test_md_scene_bad_resolution_check(md, message):
+    with pytest.raises(ValueError, match=message):
+        _scene(**md)
 
-    def __init__(self, params):
-        self.pack, self.params = None, params
 
-    @property
-    def lattice(self):
-        raise _Redo
+def _stage(path, member, params, pack_id):
+    from md.experiment import _PULSE_VARIABLES
+
+    values = {v: ((), 2000.0) for v in (*_PULSE_VARIABLES.values(), "wall_time")}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    xr.Dataset(values, attrs=member.attrs(params, pack_id)).to_netcdf(path)
 
 
 @pytest.mark.parametrize("change", [{}, {"resolution": 6.0}, {"wave": "s"},
                                     {"time_step_factor": 0.25}, {"seed": 1},
-                                    {"interface": "paper"}])
+                                    {"interface": "paper"}, {"pack": "other"}])
 def test_pulse_stage_file_redone_when_the_scene_changes(tmp_path, change):
-    from md.experiment import _PULSE_VARIABLES, _pulse_sweep
+    from md.experiment import _load_member, _Member
 
     p = _scene()["md"]
-    shape = (len(p["schemes"]), len(p["saturations"]))
-    stage = xr.Dataset({v: (("scheme", "saturation"), np.full(shape, 2000.0))
-                        for v in _PULSE_VARIABLES.values()},
-                       coords={"scheme": p["schemes"], "saturation": p["saturations"]},
-                       attrs={k: p[k] for k in ("interface", "resolution", "wave",
-                                                "time_step_factor", "seed")})
-    path = tmp_path / "pulse_loose_hard.nc"
-    stage.to_netcdf(path)
-    now = _NoCementation({**p, **change})
-    if not change:                       # the same scene resumes from the file
-        np.testing.assert_array_equal(_pulse_sweep(now, None, path, False).velocity, 2000.0)
-    else:                                # a stage file of another Omega, wave, ... is redone
-        with pytest.raises(_Redo):
-            _pulse_sweep(now, None, path, False)
+    cemented = _Member("loose", "hard", "contact", 0.1, p["resolution"])
+    bare = _Member("loose", "hard", "contact", 0.0, p["resolution"])
+    for m in (cemented, bare):
+        _stage(m.file(tmp_path), m, p, "pack-a")
+    change = dict(change)
+    pack = "pack-b" if change.pop("pack", None) else "pack-a"
+    now = {**p, **change}
+    again = _Member("loose", "hard", "contact", 0.1, now["resolution"])
+    done = _load_member(again.file(tmp_path), again.attrs(now, pack))
+    if not change and pack == "pack-a":          # the same scene resumes from the file
+        assert done["velocity"] == 2000.0
+    else:                                        # another Omega, wave, ..., pack: redone
+        assert done is None
+    # The uncemented member is shared by every cement, scheme and resolution: only the wave,
+    # the time step and the pack make it stale.
+    bare_now = _Member("loose", "soft", "pendular", 0.0, now["resolution"])
+    assert bare_now == bare and bare_now.file(tmp_path) == bare.file(tmp_path)
+    stale = pack != "pack-a" or "wave" in change or "time_step_factor" in change
+    assert (_load_member(bare_now.file(tmp_path), bare_now.attrs(now, pack)) is None) == stale
