@@ -296,10 +296,11 @@ def _run_members(todo, pack_files, params, pack_ids, folder, jobs, progress):
     from tqdm.auto import tqdm
 
     results = {}
-    # Longest first (the longest-processing-time rule), grouped by pack and resolution so a
-    # process reuses its lattice.
-    todo = sorted(todo, key=lambda m: (-(m.resolution or 0.0), m.sample, m.scheme or "",
-                                       -m.cost()))
+    # The compacted sample first (a run stopped early has it whole), then by resolution, finest
+    # first, so a process reuses its lattice; within those, longest first (the
+    # longest-processing-time rule).
+    todo = sorted(todo, key=lambda m: (m.sample != "compacted", m.sample,
+                                       -(m.resolution or 0.0), -m.cost()))
     bar = tqdm(total=len(todo), disable=not progress or not todo, desc="pulse tests",
                unit="member")
     if jobs <= 1 or len(todo) <= 1:
