@@ -77,3 +77,11 @@ def test_md_scene_runs_from_the_cli_and_resumes(tmp_path, run_cli):
 def test_run_md_scene_rejects_missing_table():
     with pytest.raises(ValueError, match=r"\[md\]"):
         md_scene_from_dict({"name": "x"})
+
+
+@pytest.mark.parametrize("jobs", ["0", "-2", "two"])
+def test_cli_jobs_must_be_a_positive_integer(tmp_path, run_cli, jobs):
+    res = run_cli(["run", "garcia_medina_cement", "-j", jobs], tmp_path)
+    assert res.returncode == 2
+    assert f"--jobs: must be an integer >= 1; got '{jobs}'" in res.stderr
+    assert "Traceback" not in res.stderr and not list(tmp_path.iterdir())
