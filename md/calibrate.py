@@ -44,10 +44,13 @@ optional ``thickness_ratio`` (used as :math:`\varepsilon` where it is held). Gra
 moduli come from the arguments or from attributes ``grain_K``, ``grain_G``, ``cement_K``,
 ``cement_G`` (GPa; densities ``grain_rho``, ``cement_rho`` optional).
 
-:func:`calibrate` returns the fits as a Dataset; :func:`write_calibration` writes one parameter
-set as a calibration file (TOML, format ``rockcem-calibration/1``, described in
-``datasets/calibrations/README.md``) that scenes read with
-``[models.patchy_cement] calibration = "<file or shipped name>"``.
+:func:`calibrate` returns the fits as a Dataset, with each fitted parameter flagged
+``unidentifiable`` where the data do not determine it; :func:`calibrate_identified` fits, holds
+the flagged parameters it is allowed to hold and fits the rest again; :func:`total_error`
+combines the eq. 11 and resolution errors of an MD study into the weights;
+:func:`write_calibration` writes one parameter set as a calibration file (TOML, format
+``rockcem-calibration/1``, described in ``datasets/calibrations/README.md``) that scenes read
+with ``[models.patchy_cement] calibration = "<file or shipped name>"``.
 """
 
 from __future__ import annotations
@@ -55,14 +58,15 @@ from __future__ import annotations
 import datetime
 import itertools
 import json
-from pathlib import Path
 
 import numpy as np
 
-__all__ = ["MODELS", "calibrate", "as_mineral", "write_calibration"]
+__all__ = ["MODELS", "calibrate", "calibrate_identified", "total_error", "as_mineral",
+           "write_calibration"]
 
 from ._calibrate_groups import (MODELS, _OBSERVABLES, _REFERENCES,  # noqa: E402, F401
                                 _fit_group, _Group, _inputs, _largest_n, as_mineral)
+from ._calibrate_file import write_calibration  # noqa: E402
 
 
 def calibrate(data, model="contact_cement", *, free=("coordination_number",), fixed=None,
@@ -121,9 +125,13 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
     xarray.Dataset
         Over the ``each`` dimensions: ``value`` and ``stderr`` (dimension ``parameter``, every
         parameter of the model, with ``parameter_units``; the error of a held one is 0),
-        ``fitted`` (per parameter), ``at_bound``, ``covariance`` (``cov_i`` × ``cov_j``, the
-        free parameters), ``misfit`` and ``misfit_initial`` (root-mean-square relative misfit
-        per ``observed`` quantity, at the solution and the start), ``chi2``, ``dof``,
+        ``fitted`` (per parameter), ``at_bound``, ``unidentifiable`` (the data do not
+        determine the fitted value: :func:`rockcem.calibrate.unidentifiable` with the test
+        against the value's magnitude, so an error infinite, wider than the bounds or than
+        the value, or a correlation beyond 0.999; false where held), ``covariance`` and
+        ``correlation`` (``cov_i`` × ``cov_j``, the free parameters), ``misfit`` and
+        ``misfit_initial`` (root-mean-square relative misfit per ``observed`` quantity, at
+        the solution and the start), ``chi2``, ``dof``,
         ``n_points``, ``success``; over the data's dimensions each observation, its
         prediction ``<name>_model`` (NaN where the rock state is incomplete), its error
         ``<name>_error`` where used, and ``used`` (points in the fit). Attributes name the
@@ -154,6 +162,8 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
     7.0
     """
     import xarray as xr
+
+    from rockcem.calibrate import correlation, unidentifiable
 
     inp = _inputs(data, model, free, fixed, grain, cement, scheme, observed, errors,
                   critical_porosity, pressure, stiffness)
@@ -206,13 +216,15 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
             spec[k] = (x0, lo, hi)
         fit, pred = _fit_group(g, model, spec, held, inp, scheme, stiffness, absolute_errors,
                                where)
+        bad = unidentifiable(fit, spec, relative=True)
         rows.append({
             "value": [fit.values[k] if k in fit.values
                       else float(np.mean(np.asarray(held[k])[g.used] if np.ndim(held[k])
                                          else held[k])) for k in names],
             "stderr": [fit.stderr.get(k, 0.0) for k in names],
             "at_bound": [fit.at_bound.get(k, False) for k in names],
-            "covariance": fit.covariance,
+            "unidentifiable": [k in bad for k in names],
+            "covariance": fit.covariance, "correlation": correlation(fit),
             "misfit": [fit.misfit[k] for k in obs],
             "misfit_initial": [fit.misfit_initial[k] for k in obs],
             "chi2": fit.chi2, "dof": fit.dof, "n_points": n_used, "success": fit.success,
@@ -234,7 +246,12 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
             "fitted": (("parameter",), np.array([k in free_names for k in names])),
             "at_bound": (E + ("parameter",), stack("at_bound"),
                          {"long_name": "fitted value on a bound (its error is understated)"}),
+            "unidentifiable": (E + ("parameter",), stack("unidentifiable"),
+                               {"long_name": "the data do not determine the fitted value "
+                                             "(rockcem.calibrate.unidentifiable, relative)"}),
             "covariance": (E + ("cov_i", "cov_j"), stack("covariance")),
+            "correlation": (E + ("cov_i", "cov_j"), stack("correlation"),
+                            {"units": "1", "long_name": "correlation of the free parameters"}),
             "misfit": (E + ("observed",), stack("misfit"),
                        {"units": "1", "long_name": "root-mean-square relative misfit"}),
             "misfit_initial": (E + ("observed",), stack("misfit_initial"),
@@ -260,6 +277,120 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
     out.attrs.update(_attrs(data, model, scheme, stiffness, inp, free_names, sources,
                             absolute_errors))
     return out
+
+
+def total_error(data, name="vp"):
+    r"""The error of an MD velocity for weighting a fit: the eq. 11 error of the pulse test
+    combined in quadrature with the resolution error where the study has one.
+
+    :math:`\sigma = \sqrt{\sigma_{11}^2 + \sigma_\Omega^2}`, with :math:`\sigma_{11}` the
+    variable ``<name>_error`` (eq. 11 of [GarciaMedina2007]_, the arrival-time error for
+    :math:`\Delta L = R`) and :math:`\sigma_\Omega` the variable ``<name>_error_resolution``
+    (first-order Richardson estimate of the distance to the :math:`\Omega \to \infty` limit,
+    written by :func:`md.experiment.run_md_scene` with ``resolution_check``; 0 for the
+    uncemented pack, which has no cement lattice). The two are taken as independent: the
+    first is the timing of one pulse, the second the discretisation of the cement. A NaN in
+    either gives a NaN, which leaves the point out of a fit (:func:`calibrate` uses only
+    points with a finite positive error). Without ``<name>_error_resolution``, the eq. 11
+    error alone.
+
+    Parameters
+    ----------
+    data : xarray.Dataset
+        An MD scene's output (:func:`md.experiment.run_md_scene`).
+    name : str
+        The velocity, ``"vp"`` or ``"vs"`` (km/s).
+
+    Returns
+    -------
+    xarray.DataArray
+        km/s, the dimensions of ``<name>_error``.
+    """
+    if f"{name}_error" not in data.variables:
+        raise ValueError(f"data needs a variable {name}_error (the eq. 11 error) for "
+                         f"name={name!r}")
+    err = data[f"{name}_error"]
+    res = data.get(f"{name}_error_resolution")
+    total = err if res is None else np.hypot(err, res)
+    how = "eq. 11" if res is None else "eq. 11 and resolution errors in quadrature"
+    return total.rename(f"{name}_error_total").assign_attrs(
+        units=err.attrs.get("units", "km s-1"), long_name=f"error of {name}: {how}")
+
+
+def calibrate_identified(data, model="patchy_cement", *, free, hold, reason="", **options):
+    r"""One fit by :func:`calibrate`, then the parameters the data do not determine held and
+    the rest fitted again.
+
+    The first fit frees every parameter of ``free``. Those it flags ``unidentifiable`` (see
+    :func:`calibrate`: an infinite standard error, one wider than the bounds or than the
+    value, or a correlation beyond 0.999) that ``hold`` names are held at the values ``hold``
+    gives, and the others are fitted again; a flagged parameter ``hold`` does not name stays
+    free and stays flagged. The first fit is kept for the record in the attribute
+    ``identifiability_json`` (free parameters, values, errors, correlation, chi2, the flagged
+    and the held ones, ``reason``), which :func:`write_calibration` writes as the table
+    ``[identifiability]``.
+
+    Parameters
+    ----------
+    data : xarray.Dataset
+        As for :func:`calibrate`, reduced to one fit (select one label of each dimension but
+        the point dimension, e.g. ``ds.sel(sample="compacted", cement="hard",
+        scheme="contact")``).
+    model : {"contact_cement", "patchy_cement"}
+    free : sequence of str or mapping, keyword-only
+        As for :func:`calibrate`, at least two parameters.
+    hold : mapping, keyword-only
+        ``{name: value}``: the free parameters that may be held if unidentifiable, and their
+        values, within the bounds of :data:`MODELS` (units of :data:`MODELS`).
+    reason : str, keyword-only
+        Why those values (recorded).
+    **options
+        Passed to :func:`calibrate` (``fixed`` among them: merged with the held values).
+
+    Returns
+    -------
+    xarray.Dataset
+        The final fit, as :func:`calibrate` returns it, with ``identifiability_json``.
+
+    Raises
+    ------
+    ValueError
+        If the data give more than one fit, ``hold`` names a parameter that is not free or a
+        value out of bounds, or every free parameter would be held.
+    """
+    first = calibrate(data, model, free=free, **options)
+    if first["value"].dims != ("parameter",):
+        raise ValueError("calibrate_identified needs data of one fit: select one label of "
+                         f"{', '.join(d for d in first['value'].dims if d != 'parameter')}")
+    free_names = [str(k) for k in first.cov_i.values]
+    table = MODELS[model]
+    for k, v in hold.items():
+        if k not in free_names:
+            raise ValueError(f"hold names {k!r}, which is not free (free: {free_names})")
+        if not isinstance(v, (int, float, np.integer, np.floating)) \
+                or not table[k][2] <= v <= table[k][3]:
+            raise ValueError(f"hold[{k!r}] must be a number in [{table[k][2]:g}, "
+                             f"{table[k][3]:g}]; got {v!r}")
+    flagged = [k for k in free_names if bool(first.unidentifiable.sel(parameter=k))]
+    held = {k: float(hold[k]) for k in flagged if k in hold}
+    rest = [k for k in free_names if k not in held]
+    if held and not rest:
+        raise ValueError(f"every free parameter {free_names} is unidentifiable and held: "
+                         "nothing is left to fit")
+    final = first
+    if held:
+        spec = ({k: free[k] for k in rest} if isinstance(free, dict) else rest)
+        final = calibrate(data, model, free=spec,
+                          **{**options, "fixed": {**(options.get("fixed") or {}), **held}})
+    corr = first.correlation.values
+    final.attrs["identifiability_json"] = json.dumps({
+        "free": free_names, "unidentifiable": flagged, "held": held, "reason": reason,
+        "values": {k: float(first.value.sel(parameter=k)) for k in free_names},
+        "stderr": {k: float(first.stderr.sel(parameter=k)) for k in free_names},
+        "correlation": {f"{a}/{b}": float(corr[i, j]) for i, a in enumerate(free_names)
+                        for j, b in enumerate(free_names) if j > i},
+        "chi2": float(first.chi2), "dof": int(first.dof)})
+    return final
 
 
 def _attrs(data, model, scheme, stiffness, inp, free_names, sources, absolute_errors):
@@ -290,73 +421,3 @@ def _attrs(data, model, scheme, stiffness, inp, free_names, sources, absolute_er
         "history": f"{now} created by md.calibrate.calibrate",
         "references": "\n".join(f"[{k}] {REFERENCES[k]}" for k in _REFERENCES[model]),
     }
-
-
-# ----------------------------------------------------------------------------- calibration file
-def write_calibration(fit, path, *, name=None, description="", **selection) -> Path:
-    """Write one fitted parameter set of :func:`calibrate` as a calibration file for scenes.
-
-    The file (TOML, format ``rockcem-calibration/1``, :func:`rockcem.calibrate.write_calibration`;
-    see ``datasets/calibrations/README.md``) lists in ``[parameters]`` every model parameter
-    the fit used, fitted or held, and the cement-radius ``scheme`` (``cement_efficiency`` is
-    left out when held at 1, where it does nothing); the errors of the fitted ones, the misfit
-    and what the fit was made on are kept for the record.
-
-    Parameters
-    ----------
-    fit : xarray.Dataset
-        From :func:`calibrate`.
-    path : str or Path
-        File to write (``.toml``).
-    name : str, optional, keyword-only
-        Name of the calibration; default the file's stem.
-    description : str, keyword-only
-        Free text.
-    **selection
-        Labels selecting one fit, e.g. ``sample="compacted", cement="hard",
-        scheme="contact"``: one for every dimension of ``value`` but ``parameter``.
-
-    Returns
-    -------
-    Path
-    """
-    from rockcem.calibrate import write_calibration as write
-
-    if "calibration_model" not in fit.attrs or "value" not in fit:
-        raise ValueError("fit must be a Dataset returned by md.calibrate.calibrate")
-    try:
-        one = fit.sel(selection) if selection else fit
-    except (KeyError, ValueError) as exc:
-        raise ValueError(f"selection {selection} does not match the fit's labels: {exc}") \
-            from None
-    left = [d for d in one["value"].dims if d != "parameter"]
-    if left:
-        raise ValueError(f"select one fit: give a label for {', '.join(left)} "
-                         f"(e.g. {left[0]}={one[left[0]].values[0].item()!r})")
-    path = Path(path)
-    fitted = {str(k): bool(f) for k, f in zip(one.parameter.values, one.fitted.values)}
-    params = {k: float(one.value.sel(parameter=k)) for k in fitted}
-    if not fitted.get("cement_efficiency", True) and params["cement_efficiency"] == 1.0:
-        del params["cement_efficiency"]
-    params["scheme"] = int(fit.attrs["scheme"])
-    where = ", ".join(f"{k} = {v}" for k, v in selection.items())
-    record = {
-        "grain": fit.attrs["grain"], "grain_K": fit.attrs["grain_K"],
-        "grain_G": fit.attrs["grain_G"], "cement": fit.attrs["cement"],
-        "cement_K": fit.attrs["cement_K"], "cement_G": fit.attrs["cement_G"],
-        "critical_porosity_source": fit.attrs["critical_porosity_source"],
-        "held": [f"{k} ({v['source']})" for k, v in json.loads(fit.attrs["held_json"]).items()],
-        "points": int(one.n_points), "chi2": float(one.chi2),
-        "dof": int(one.dof), "success": bool(one.success),
-        "at_bound": [k for k, f in fitted.items() if f and bool(one.at_bound.sel(parameter=k))],
-    }
-    return write(path, name=name or path.stem, model=fit.attrs["calibration_model"],
-                 parameters=params,
-                 uncertainty={k: float(one.stderr.sel(parameter=k)) for k, f in fitted.items()
-                              if f},
-                 misfit={str(k): float(v) for k, v in zip(one.observed.values,
-                                                           one.misfit.values)},
-                 description=description,
-                 data=fit.attrs["data"] + (f" ({where})" if where else ""),
-                 weights=fit.attrs["weights"],
-                 references=fit.attrs["references"].replace("\n", "; "), record=record)

@@ -26,13 +26,15 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
+from ._identifiability import CORRELATION_LIMIT, correlation, unidentifiable
 from ._toml import toml_value
 from .validation import as_array, broadcast, check_positive, check_range
 from .elastic import velocities
 from .granular import contact_cement
 from .materials import Mineral
 
-__all__ = ["FitResult", "fit_parameters", "fit_contact_cement", "CALIBRATION_FORMAT",
+__all__ = ["FitResult", "fit_parameters", "fit_contact_cement", "correlation", "unidentifiable",
+           "CORRELATION_LIMIT", "CALIBRATION_FORMAT",
            "CALIBRATION_MODELS", "write_calibration", "load_calibration", "shipped_calibrations",
            "apply_scene_calibration"]
 
@@ -108,7 +110,10 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
     :math:`s^2 (J^T J)^{-1}` with :math:`J` the Jacobian of the residuals at the solution and
     :math:`s^2 = \chi^2/(N - p)` the residual variance, as ``scipy.optimize.curve_fit`` with
     ``absolute_sigma=False``; with ``absolute_errors=True`` the errors are taken as true
-    standard deviations and :math:`s^2 = 1`.
+    standard deviations and :math:`s^2 = 1`. A parameter whose column of :math:`J` is zero
+    (it does not move the prediction at the solution) gets an infinite error and no
+    covariance with the others, whose covariance is then that of the fit with it held; where
+    :math:`J^T J` of the others is singular, every error is infinite.
 
     Parameters
     ----------
@@ -170,13 +175,16 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
     dof = max(sol.fun.size - len(names), 1)
     chi2 = float(np.sum(sol.fun**2))
     s2 = 1.0 if absolute_errors else chi2 / dof
-    JtJ = sol.jac.T @ sol.jac
+    jac = np.asarray(sol.jac, dtype=float)
+    live = np.flatnonzero(np.any(jac != 0.0, axis=0))   # parameters that move the residuals
+    cov = np.diag(np.full(len(names), np.inf))
     try:
-        cov = np.linalg.inv(JtJ) * s2
-        err = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        if live.size:
+            sub = np.linalg.inv(jac[:, live].T @ jac[:, live]) * s2
+            cov[np.ix_(live, live)] = sub
     except np.linalg.LinAlgError:
         cov = np.diag(np.full(len(names), np.inf))
-        err = np.full(len(names), np.inf)
+    err = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     tol = 1e-9 * (hi - lo)
     at_bound = (sol.x - lo <= tol) | (hi - sol.x <= tol)
     return FitResult(
@@ -245,15 +253,18 @@ def fit_contact_cement(grain: Mineral, cement: Mineral, porosity, density, vp, v
 
 # ----------------------------------------------------------------------------- calibration files
 def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit=None,
-                      description="", data="", weights="", references="", record=None) -> Path:
+                      description="", data="", weights="", references="", record=None,
+                      identifiability=None) -> Path:
     """Write a calibration file (TOML, format ``rockcem-calibration/1``) atomically.
 
     The file has top-level keys ``format``, ``name``, ``description``, ``model``, ``data``,
     ``weights``, ``created``, ``software``, ``references`` and the tables ``[parameters]`` (the
     values a scene applies: model parameters and the cement-radius ``scheme``),
     ``[uncertainty]`` (one-sigma errors of the fitted ones), ``[misfit]`` (root-mean-square
-    relative misfit per observed quantity) and ``[fit]`` (what the fit was made on, for the
-    record only). :func:`load_calibration` reads it back.
+    relative misfit per observed quantity), ``[fit]`` (what the fit was made on, for the
+    record only) and, where given, ``[identifiability]`` (which parameters the data could not
+    determine and what was done about it, for the record only). :func:`load_calibration` reads
+    it back.
 
     Parameters
     ----------
@@ -270,6 +281,9 @@ def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit
         and the sources.
     record : mapping, optional
         Scalars, strings or lists of them describing the fit (the ``[fit]`` table).
+    identifiability : mapping, optional
+        Scalars, strings or lists of them (the ``[identifiability]`` table); its key
+        ``unidentifiable``, if given, a list of parameter names.
 
     Returns
     -------
@@ -286,7 +300,10 @@ def write_calibration(path, *, name, model, parameters, uncertainty=None, misfit
              "other tables record the fit.", ""]
     lines += [f"{k} = {toml_value(v)}" for k, v in head.items()]
     for table, values in (("parameters", parameters), ("uncertainty", uncertainty or {}),
-                          ("misfit", misfit or {}), ("fit", record or {})):
+                          ("misfit", misfit or {}), ("fit", record or {}),
+                          ("identifiability", identifiability)):
+        if values is None:
+            continue
         lines += ["", f"[{table}]"] + [f"{_toml_key(k)} = {toml_value(v)}"
                                        for k, v in values.items()]
     text = "\n".join(lines) + "\n"
@@ -346,6 +363,11 @@ def _check_calibration(raw, where):
     unknown = sorted(set(raw.get("uncertainty", {})) - set(params))
     if unknown:
         raise bad(f"[uncertainty] names {unknown}, which are not in [parameters]")
+    ident = raw.get("identifiability", {})
+    names = ident.get("unidentifiable", []) if isinstance(ident, dict) else None
+    if not isinstance(names, list) or not all(isinstance(k, str) for k in names):
+        raise bad("[identifiability] must be a table whose key unidentifiable, if present, is "
+                  "a list of parameter names")
 
 
 def load_calibration(source, *, base_dir=None) -> dict:
@@ -364,7 +386,8 @@ def load_calibration(source, *, base_dir=None) -> dict:
     -------
     dict
         ``name``, ``model``, ``description``, ``data``, ``parameters``, ``uncertainty``,
-        ``misfit`` (as in the file), ``path`` (resolved, str) and ``sha256`` (of the file).
+        ``misfit``, ``identifiability`` (as in the file; empty where absent), ``path``
+        (resolved, str) and ``sha256`` (of the file).
 
     Raises
     ------
@@ -395,6 +418,7 @@ def load_calibration(source, *, base_dir=None) -> dict:
             "parameters": dict(raw["parameters"]),
             "uncertainty": dict(raw.get("uncertainty", {})),
             "misfit": dict(raw.get("misfit", {})),
+            "identifiability": dict(raw.get("identifiability", {})),
             "path": str(path.resolve()), "sha256": hashlib.sha256(data).hexdigest()}
 
 

@@ -49,6 +49,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._identifiability import CORRELATION_LIMIT as _CORRELATION_LIMIT
+from ._identifiability import correlation as _correlation
+from ._identifiability import unidentifiable as _shared_unidentifiable
 from .wells import WELL_VARIABLES
 
 __all__ = ["DEFAULT_BOUNDS", "SceneFit", "fit_scene"]
@@ -79,8 +82,9 @@ DEFAULT_BOUNDS = {
 #: porosity0, grain size, quartz fraction, clay coating and start temperature only).
 _COMPACTION_KEYS = ("sandstone.beta", "sandstone.igv_final", "pressure.sediment_density",
                     "pressure.water_density")
-#: Correlation beyond which two parameters are reported as not separately determined.
-CORRELATION_LIMIT = 0.999
+#: Correlation beyond which two parameters are reported as not separately determined (the rule
+#: of :func:`rockcem.calibrate.unidentifiable`, shared with :mod:`md.calibrate`).
+CORRELATION_LIMIT = _CORRELATION_LIMIT
 
 
 @dataclass(frozen=True)
@@ -457,26 +461,8 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
                     (lo, hi), points, _correlation(result), bad, source, weights)
 
 
-def _correlation(result):
-    """Correlation matrix of the fitted parameters (NaN where not defined)."""
-    cov = np.asarray(result.covariance, dtype=float)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        d = np.sqrt(np.diag(cov))
-        corr = cov / np.outer(d, d)
-    corr = np.where(np.isfinite(corr), corr, np.nan)
-    np.fill_diagonal(corr, 1.0)
-    return corr
-
-
 def _unidentifiable(result, params):
     """Parameters whose standard error is not finite or wider than their bounds, or that
-    correlate with another beyond :data:`CORRELATION_LIMIT`."""
-    corr = _correlation(result)
-    bad = []
-    for i, k in enumerate(result.values):
-        width = params[k][2] - params[k][1]
-        others = np.abs(np.delete(corr[i], i))
-        if not np.isfinite(result.stderr[k]) or result.stderr[k] > width \
-                or np.any(others > CORRELATION_LIMIT) or np.any(np.isnan(others)):
-            bad.append(k)
-    return tuple(bad)
+    correlate with another beyond :data:`CORRELATION_LIMIT`
+    (:func:`rockcem.calibrate.unidentifiable`)."""
+    return _shared_unidentifiable(result, params, correlation_limit=CORRELATION_LIMIT)

@@ -6,6 +6,7 @@ Xu 2023 Table 1 fit of rockcem.calibrate.fit_contact_cement, and the closed form
 radius.
 """
 
+import json
 import subprocess
 import sys
 import tomllib
@@ -15,7 +16,8 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from md.calibrate import MODELS, as_mineral, calibrate, write_calibration
+from md.calibrate import (MODELS, as_mineral, calibrate, calibrate_identified, total_error,
+                          write_calibration)
 from rockcem.calibrate import fit_contact_cement, fit_parameters, load_calibration
 from rockcem.elastic import velocities
 from rockcem.granular import cement_radius, contact_cement, patchy_cement
@@ -347,3 +349,144 @@ def test_bonded_fit_keeps_n_where_the_cement_fits():
                                  observed=["K", "G"])
     n = float(fit.value.sel(parameter="coordination_number"))
     assert 0.9 * n_max < n <= n_max
+
+
+# --- identifiability and the full-size study ----------------------------------------------------
+def test_a_parameter_without_leverage_is_flagged():
+    """phi_p0 confined to [0.1, 0.4] while the data's cement fractions stay below 0.08: the
+    model caps the contact cement at min(phi_p, phi_p0) = phi_p, so the prediction does not
+    depend on phi_p0 at all (checked on the model itself), and the fit flags it; n, which
+    moves Vp, is not flagged in a fit of its own."""
+    data = md_like("patchy_cement", n=(6.0, 8.0))
+    phip = (data.porosity_uncemented - data.porosity).values
+    assert phip.max() < 0.1
+    lo, hi = (patchy_cement(GRAIN.K, GRAIN.G, HARD.K, HARD.G, data.porosity.values[1], 0.386,
+                            8.0, 12.0, phip[1], limit) for limit in (0.1, 0.4))
+    np.testing.assert_array_equal(lo.K, hi.K)
+    fit = calibrate(data, "patchy_cement", free={"coordination_number": (7.0, 2.0, 20.0),
+                                                 "contact_cement_limit": (0.2, 0.1, 0.4)},
+                    grain=GRAIN, cement=HARD)
+    assert fit.unidentifiable.sel(parameter="contact_cement_limit").all()
+    assert np.isinf(fit.stderr.sel(parameter="contact_cement_limit")).all()
+    alone = calibrate(data, "patchy_cement", free=["coordination_number"], grain=GRAIN,
+                      cement=HARD)
+    assert not alone.unidentifiable.any()
+    np.testing.assert_allclose(alone.value.sel(parameter="coordination_number"), [6.0, 8.0],
+                               rtol=1e-6)
+    assert alone.correlation.dims == ("sample", "cov_i", "cov_j")
+
+
+FULL_SAT = np.array([0.0, 0.02, 0.05, 0.1, 0.2])
+
+
+def full_like(rng, saturation=FULL_SAT, n=6.0, limit=0.05, noise=0.01):
+    """A Dataset of the full study's schema (md.experiment.run_md_scene with resolution_check:
+    sample x cement x scheme x saturation) whose vp is the patchy-cement model's at
+    coordination number ``n`` (compacted; n - 1.5 loose) and contact-cement limit ``limit``,
+    with relative noise; eq. 11 errors 0.8 % and resolution errors 0.6 % of vp (1 % together),
+    0 at S_c = 0 as in the study."""
+    sat = np.asarray(saturation, dtype=float)
+    samples, cements, schemes = ["loose", "compacted"], ["hard", "soft"], \
+        ["contact", "coating", "pore_body"]
+    phi0, stress, coord = np.array([0.39, 0.386]), np.array([0.01, 30.0]), [n - 1.5, n]
+    cem = {"hard": HARD, "soft": mineral("soft_cement")}
+    shape = (2, 2, 3, sat.size)
+    vp, rho = np.empty(shape), np.empty(shape)
+    for (i, j, k) in np.ndindex(shape[:3]):
+        c, phi = cem[cements[j]], phi0[i] * (1 - sat)
+        rho[i, j, k] = (1 - phi0[i]) * GRAIN.rho + (phi0[i] - phi) * c.rho
+        m = patchy_cement(GRAIN.K, GRAIN.G, c.K, c.G, phi, phi0[i], coord[i], stress[i],
+                          phi0[i] - phi, limit, 1 if k == 0 else 2)
+        vp[i, j, k] = velocities(m.K, m.G, rho[i, j, k]).vp
+    dims = ("sample", "cement", "scheme", "saturation")
+    observed = vp * (1 + noise * rng.standard_normal(shape))
+    res = np.where(sat > 0, 0.006 * vp, 0.0)
+    return xr.Dataset(
+        {"vp": (dims, observed), "vp_error": (dims, 0.008 * vp),
+         "vp_error_resolution": (dims, res), "vp_resolution_check": (dims, observed + res),
+         "wall_time": (dims, np.full(shape, 60.0)), "vp_fit": (dims, observed),
+         "vp_static": (dims, vp), "density": (dims, rho),
+         "porosity": (("sample", "saturation"), np.outer(phi0, 1 - sat)),
+         "porosity_uncemented": ("sample", phi0), "coordination_number": ("sample", coord),
+         "stress": ("sample", stress), "stress_mean": ("sample", 0.8 * stress)},
+        coords={"sample": samples, "cement": cements, "scheme": schemes, "saturation": sat},
+        attrs={"title": "synthetic full-size MD study", "scene_name": "synthetic"})
+
+
+def test_total_error_adds_the_resolution_error_in_quadrature(rng):
+    data = full_like(rng)
+    total = total_error(data)
+    np.testing.assert_allclose(total, np.sqrt(data.vp_error**2 + data.vp_error_resolution**2),
+                               rtol=1e-14)
+    np.testing.assert_allclose(total.sel(saturation=0.0), data.vp_error.sel(saturation=0.0))
+    assert total.name == "vp_error_total" and "quadrature" in total.attrs["long_name"]
+    xr.testing.assert_equal(total_error(data.drop_vars("vp_error_resolution")).drop_attrs(),
+                            data.vp_error.rename("vp_error_total").drop_attrs())
+    with pytest.raises(ValueError, match="vs_error"):
+        total_error(data, "vs")
+
+
+SHIP = {"sample": "compacted", "cement": "hard", "scheme": "contact"}
+PATCHY = dict(free=["coordination_number", "contact_cement_limit"],
+              hold={"contact_cement_limit": 0.05}, reason="the rockcem default",
+              grain=GRAIN, cement=HARD, scheme=1, errors={"vp": "vp_error_total"},
+              absolute_errors=True)
+
+
+def test_full_study_fit_holds_phi_p0_the_data_cannot_see(rng, tmp_path):
+    """Saturations up to 0.1 (cement fractions <= 0.039) and phi_p0 = 0.05: no point reaches
+    the cap, phi_p0 is flagged in the two-parameter fit, held at 0.05 and n fitted alone is
+    recovered within its error; the calibration file records all of it."""
+    data = full_like(rng, saturation=FULL_SAT[:4])
+    data["vp_error_total"] = total_error(data)
+    fit = calibrate_identified(data.sel(SHIP), "patchy_cement", **PATCHY)
+    ident = json.loads(fit.attrs["identifiability_json"])
+    assert ident["unidentifiable"] == ["contact_cement_limit"]
+    assert ident["held"] == {"contact_cement_limit": 0.05}
+    assert list(fit.cov_i.values) == ["coordination_number"]
+    n, err = (float(fit[v].sel(parameter="coordination_number")) for v in ("value", "stderr"))
+    assert abs(n - 6.0) < 3 * err and 0 < err < 0.5
+    # The first fit gave n the error of the fit with phi_p0 held: the same as the re-fit's.
+    assert ident["stderr"]["coordination_number"] == pytest.approx(err, rel=1e-3)
+    assert not fit.unidentifiable.any()
+    assert float(fit.value.sel(parameter="contact_cement_limit")) == 0.05
+    path = write_calibration(fit, tmp_path / "cal.toml")
+    cal = load_calibration(path)
+    assert set(cal["uncertainty"]) == {"coordination_number"}
+    assert cal["parameters"]["contact_cement_limit"] == 0.05
+    assert cal["identifiability"]["held"] == ["contact_cement_limit"]
+    assert cal["identifiability"]["reason"] == "the rockcem default"
+    raw = tomllib.loads(path.read_text())
+    assert "contact_cement_limit (held: unidentifiable)" in raw["fit"]["held"]
+    assert raw["fit"]["unidentifiable"] == []
+
+
+def test_full_study_fit_keeps_phi_p0_the_data_determine(rng, tmp_path):
+    """Saturations up to 0.2 and phi_p0 = 0.03: the two highest points lie past the cap, both
+    parameters are determined and recovered within three errors, nothing is held."""
+    data = full_like(rng, limit=0.03)
+    data["vp_error_total"] = total_error(data)
+    fit = calibrate_identified(data.sel(SHIP), "patchy_cement", **PATCHY)
+    ident = json.loads(fit.attrs["identifiability_json"])
+    assert ident["unidentifiable"] == [] and ident["held"] == {}
+    for name, truth in (("coordination_number", 6.0), ("contact_cement_limit", 0.03)):
+        value, err = (float(fit[v].sel(parameter=name)) for v in ("value", "stderr"))
+        assert abs(value - truth) < 3 * err, (name, value, err)
+    r = ident["correlation"]["coordination_number/contact_cement_limit"]
+    assert r == pytest.approx(float(fit.correlation[0, 1]))
+    cal = load_calibration(write_calibration(fit, tmp_path / "cal.toml"))
+    assert cal["identifiability"]["unidentifiable"] == []
+    assert set(cal["uncertainty"]) == {"coordination_number", "contact_cement_limit"}
+
+
+def test_calibrate_identified_bad_input(rng):
+    data = full_like(rng)
+    one = data.sel(SHIP)
+    kw = {k: v for k, v in PATCHY.items() if k not in ("hold", "errors")}
+    with pytest.raises(ValueError, match="select one label"):
+        calibrate_identified(data.sel(cement="hard", scheme="contact"), "patchy_cement",
+                             hold={}, **kw)
+    with pytest.raises(ValueError, match="not free"):
+        calibrate_identified(one, "patchy_cement", hold={"delta": 0.0}, **kw)
+    with pytest.raises(ValueError, match="hold"):
+        calibrate_identified(one, "patchy_cement", hold={"contact_cement_limit": 0.9}, **kw)
