@@ -1,13 +1,29 @@
-"""MD calibration (issue 7): effective-medium parameters fitted to the MD pulse tests and to the
-measured sandstones of Xu 2023 Table 1; the sandstone burial scene with calibrated parameters.
+"""MD calibration (issue 7; re-fit to the full-size study, issue 12): effective-medium
+parameters fitted to the MD pulse tests and to the measured sandstones of Xu 2023 Table 1; the
+sandstone burial scene with calibrated parameters.
 
-MD (``results/garcia_medina_cement.nc`` of the shipped scene ``garcia_medina_cement``; run here if
-missing or with ``--rerun``, its stage files in ``results/garcia_medina_cement_work/``): for
-each sample (loose, compacted), cement (hard, soft of Table II) and cementation scheme, Vp(S_c)
-is fitted with :func:`md.calibrate.calibrate` on the eq. 11 errors as weights (``vp_error``,
-scaled by the residual variance). Grain: quartz of Table I; critical porosity: the sample's
-uncemented porosity; the held coordination number: the sample's. The contact-cement radius is
-paired with the MD scheme: scheme 1 (cement at contacts) for ``contact``, scheme 2 (coating) for
+MD, ``--study`` (which MD output is fitted):
+
+- ``full`` (default): ``results/garcia_medina_full.nc`` of the shipped scene
+  ``garcia_medina_full`` (the source's study at its own size, 8 x 8 x 32 largest diameters,
+  with a resolution check). It is read, never run here (about an hour and a half on two
+  processes): if missing, the script exits with code 2 and the command that makes it,
+  ``rockcem run garcia_medina_full -o benchmarks/results/garcia_medina_full.nc -j 2``.
+- ``small``: ``results/garcia_medina_cement.nc`` of the quick-look scene
+  ``garcia_medina_cement`` (4 x 4 x 12); run here if missing or with ``--rerun``, its stage
+  files in ``results/garcia_medina_cement_work/``.
+
+A cached file whose scene (``scene_json``) differs from the shipped scene of that name is used,
+with a warning naming the keys that differ.
+
+For each sample (loose, compacted), cement (hard, soft of Table II) and cementation scheme,
+Vp(S_c) is fitted with :func:`md.calibrate.calibrate`, weighted by :func:`md.calibrate.total_error`:
+the eq. 11 error of the pulse test (``vp_error``) and, where the study has one (the full
+study's ``resolution_check``), its resolution error (``vp_error_resolution``, first-order
+Richardson estimate of the distance to the Omega -> infinity limit) in quadrature, scaled by the
+residual variance. Grain: quartz of Table I; critical porosity: the sample's uncemented
+porosity; the held coordination number: the sample's. The contact-cement radius is paired with
+the MD scheme: scheme 1 (cement at contacts) for ``contact``, scheme 2 (coating) for
 ``coating`` and for ``pore_body`` (no contact-cement scheme places cement away from contacts;
 coating is the softer of the two). Variants (column ``variant``):
 
@@ -20,7 +36,14 @@ coating is the softer of the two). Variants (column ``variant``):
 - ``patchy``: the dry patchy-cement frame (Model 4 of Carcione et al. 2022) at the sample's
   stress, n and the contact-cement limit phi_p0 free, delta held at 0 (no bonding pre-stress
   in the MD), f = 1. Points without cement enter this fit (Hertz-Mindlin); CCT fits leave them
-  out.
+  out;
+- ``patchy shipped``: the fit that becomes the shipped calibration (compacted sample, hard
+  contact cement): :func:`md.calibrate.calibrate_identified` fits n and phi_p0, and if phi_p0
+  is unidentifiable (error infinite, wider than its bounds or than its value, or |r| > 0.999
+  with n) holds it at 0.05, the value of Carcione et al. 2022 (eq. 17; the scene default), and
+  fits n alone.
+
+Column ``unidentifiable`` lists the fitted parameters the data do not determine (same rule).
 
 Xu 2023 Table 1 (``datasets/measurements/xu2023_table1.csv``): quartz grains and
 epoxy-kaolinite cement, critical porosity 0.4, n = 8.5 held, CCT scheme 1 and 2: ``CCT``
@@ -31,12 +54,15 @@ tests/rockcem/test_xu2023.py) and ``MCCT fit`` (epsilon free), by the same
 
 Sandstone: the shipped scenes ``carcione2022_sandstone`` and ``carcione2022_sandstone_calibrated``
 (the latter's patchy-cement parameters from ``datasets/calibrations/garcia_medina_compacted_patchy
-.toml``, the ``patchy`` fit of the compacted sample with hard contact cement; ``--ship`` rewrites
-that file from this run).
+.toml``). ``--ship`` rewrites that file from the ``patchy shipped`` fit of this run, with its
+``[identifiability]`` table (the two-parameter fit, the n-phi_p0 correlation, what was held
+and why); ``--ship --dry-run`` prints the file instead of writing it (checked by
+:func:`rockcem.calibrate.load_calibration` either way).
 
-Output: ``results/md_calibration.{csv,nc,png}``; the table on stdout (markdown). Run:
-``python benchmarks/md_calibration.py`` (about a minute with the MD results cached);
-``--quick``: compacted sample and hard cement only, and a coarser sandstone scene (about 15 s).
+Output: ``results/md_calibration_<study>.{csv,nc,png}`` (``--tag T`` appends ``_T``); the table
+on stdout (markdown). Run: ``python benchmarks/md_calibration.py [--study full|small]`` (about a
+minute with the MD results at hand); ``--quick``: compacted sample and hard cement only, and a
+coarser sandstone scene (about 15 s).
 """
 
 from __future__ import annotations
@@ -44,7 +70,10 @@ from __future__ import annotations
 import _common  # noqa: I001  (first: pins threads before numpy is imported)
 
 import argparse  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
@@ -60,21 +89,42 @@ MD_VARIANTS = {
 }
 PARAMS = ["coordination_number", "cement_efficiency", "thickness", "contact_cement_limit",
           "delta"]
+STUDIES = {"full": "garcia_medina_full", "small": "garcia_medina_cement"}
+#: phi_p0 where the MD data do not determine it: Carcione et al. 2022, eq. 17 and the text after
+#: it (0.1 instead changes their results little); the default of the scene schema.
+HOLD = {"contact_cement_limit": 0.05}
+HOLD_REASON = ("the MD data do not determine phi_p0 (rockcem.calibrate.unidentifiable); held at "
+               "0.05, the value of Carcione et al. 2022 (eq. 17: the most cement bonded at "
+               "contacts; 0.1 changes their results little) and the default of the scene schema")
 
 
-def md_results(rerun):
+def md_results(study, rerun):
+    """The MD study's output Dataset, with ``vp_error_total`` (:func:`md.calibrate.total_error`)
+    added; the full study is read, never run."""
+    import json
+
     import xarray as xr
 
-    path = _common.RESULTS / "garcia_medina_cement.nc"
-    if rerun or not path.exists():
-        from md.experiment import md_scene_from_dict, run_md_scene
-        from rockcem.scene import read_scene_toml
+    from md.calibrate import total_error
+    from md.experiment import md_scene_from_dict, run_md_scene
+    from rockcem.scene import read_scene_toml
 
-        scene = md_scene_from_dict(read_scene_toml("garcia_medina_cement")[0])
-        ds = run_md_scene(scene, workdir=_common.RESULTS / "garcia_medina_cement_work",
-                          progress=True)
+    name = STUDIES[study]
+    path = _common.RESULTS / f"{name}.nc"
+    scene = md_scene_from_dict(read_scene_toml(name)[0])
+    if rerun or not path.exists():
+        ds = run_md_scene(scene, workdir=_common.RESULTS / f"{name}_work", progress=True)
         _common.write_netcdf(ds, path)
-    return xr.load_dataset(path)
+    ds = xr.load_dataset(path)
+    cached = json.loads(ds.attrs.get("scene_json", "{}")).get("md", {})
+    differ = sorted(k for k in set(cached) | set(scene["md"])
+                    if cached.get(k) != scene["md"].get(k))
+    if differ:
+        print(f"md_calibration: warning: {path.name} was made with another {name} scene ("
+              + ", ".join(f"{k} {cached.get(k)!r} now {scene['md'].get(k)!r}" for k in differ)
+              + ")" + ("; --rerun remakes it" if study == "small" else ""), file=sys.stderr)
+    ds["vp_error_total"] = total_error(ds)
+    return ds
 
 
 def rows_of(fit, data, variant, obs, extra):
@@ -100,6 +150,8 @@ def rows_of(fit, data, variant, obs, extra):
         row["reduced_chi2"] = np.nan if initial else float(one.chi2 / one.dof)
         row["at_bound"] = "" if initial else " ".join(
             str(p) for p in one.parameter.values if bool(one.at_bound.sel(parameter=p)))
+        row["unidentifiable"] = "" if initial else " ".join(
+            str(p) for p in one.parameter.values if bool(one.unidentifiable.sel(parameter=p)))
         row["success"] = bool(one.success)
         rows.append(row)
     return rows
@@ -122,7 +174,8 @@ def fit_md(ds, quick):
             for scheme in ds.scheme.values:
                 sub = ds.sel(sample=samples, cement=[cement], scheme=[scheme])
                 fit = calibrate(sub, model, free=free, grain=grain,
-                                cement=mineral(f"{cement}_cement"), scheme=PAIR[str(scheme)])
+                                cement=mineral(f"{cement}_cement"), scheme=PAIR[str(scheme)],
+                                errors={"vp": "vp_error_total"})
                 parts[(variant, cement, str(scheme))] = fit
                 if variant == "CCT eta":
                     rows += rows_of(fit, "MD", "CCT", ["vp"], {})
@@ -131,6 +184,59 @@ def fit_md(ds, quick):
             [f[["vp_model", "misfit"]] for (v, *_), f in parts.items() if v == variant],
             compat="no_conflicts", join="outer", combine_attrs="drop")
     return rows, fits, parts
+
+
+def ship_fit(ds):
+    """The fit that becomes the shipped calibration (:data:`SHIP_SELECTION`): n and phi_p0,
+    phi_p0 held at :data:`HOLD` where the data do not determine it; and its table rows."""
+    from md.calibrate import calibrate_identified
+    from rockcem.materials import mineral
+
+    sel = SHIP_SELECTION
+    fit = calibrate_identified(ds.sel(sel), "patchy_cement", free=MD_VARIANTS["patchy"][1],
+                               hold=HOLD, reason=HOLD_REASON,
+                               grain=mineral("quartz_garcia_medina"),
+                               cement=mineral(f"{sel['cement']}_cement"),
+                               scheme=PAIR[sel["scheme"]], errors={"vp": "vp_error_total"})
+    return fit, rows_of(fit, "MD", "patchy shipped", ["vp"], dict(sel))
+
+
+def ship(fit, ds, dry_run):
+    """Write (or with ``dry_run`` print) the shipped calibration file from ``fit``."""
+    import json
+
+    from md.calibrate import write_calibration
+    from rockcem.calibrate import load_calibration
+
+    p = json.loads(ds.attrs.get("scene_json", "{}")).get("md", {})
+    held = json.loads(fit.attrs["identifiability_json"])["held"]
+    size = " x ".join(f"{v:g}" for v in p.get("size", [])) or "?"
+    check = (f", resolution check at Omega = {p['resolution_check']:g}"
+             if p.get("resolution_check") else "")
+    weights = ("eq. 11 and resolution errors in quadrature" if "vp_error_resolution" in ds
+               else "eq. 11 errors")
+    fitted = ("n fitted; phi_p0 held at " + ", ".join(f"{v:g}" for v in held.values())
+              + " (unidentifiable in the fit of n and phi_p0: see [identifiability])"
+              if held else "n and phi_p0 fitted (both identifiable: see [identifiability])")
+    description = (
+        f"Patchy-cement (Model 4) dry frame fitted to the MD pulse tests of the compacted pack "
+        f"with hard contact cement (scene {ds.attrs.get('scene_name', '?')}: {size} largest "
+        f"diameters, resolution Omega = {p.get('resolution', float('nan')):g}, interface "
+        f"{p.get('interface', 'paper')}{check}; Vp weighted by the {weights}); {fitted}; "
+        f"delta held at 0 (no bonding pre-stress in the MD). Written by "
+        f"benchmarks/md_calibration.py --ship.")
+    target = _common.ROOT / "datasets" / "calibrations" / f"{SHIPPED}.toml"
+    if not dry_run:
+        write_calibration(fit, target, name=SHIPPED, description=description)
+        load_calibration(target)
+        print(f"wrote {target}")
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        path = write_calibration(fit, Path(tmp) / f"{SHIPPED}.toml", name=SHIPPED,
+                                 description=description)
+        load_calibration(path)
+        print(f"--dry-run: would write {target}:\n")
+        print(path.read_text())
 
 
 def fit_xu():
@@ -196,7 +302,7 @@ def figure(ds, fits, xu, xu_fits, scenes, path):
         ax = axes[0, j]
         for scheme in ds.scheme.values:
             sel = dict(sample=sample, cement=cement, scheme=scheme)
-            ax.errorbar(s, ds.vp.sel(sel), ds.vp_error.sel(sel), fmt="o", ms=4, capsize=2,
+            ax.errorbar(s, ds.vp.sel(sel), ds.vp_error_total.sel(sel), fmt="o", ms=4, capsize=2,
                         color=colours[str(scheme)], label=f"MD {scheme}")
             ax.plot(s, fits["patchy"].vp_model.sel(sel), "-", color=colours[str(scheme)],
                     label="patchy fit" if scheme == "contact" else None)
@@ -247,33 +353,41 @@ def figure(ds, fits, xu, xu_fits, scenes, path):
 
 
 def main(argv=None):
+    import json
+
     import xarray as xr
 
-    from md.calibrate import write_calibration
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--study", choices=list(STUDIES), default="full",
+                    help="MD output to fit: full (garcia_medina_full, read only) or small "
+                         "(garcia_medina_cement, run if missing); default full")
     ap.add_argument("--quick", action="store_true",
                     help="compacted sample and hard cement only, coarse sandstone scene")
-    ap.add_argument("--rerun", action="store_true", help="rerun the MD scene (about 2 min)")
+    ap.add_argument("--rerun", action="store_true",
+                    help="rerun the small MD scene (a few minutes; refused for full)")
     ap.add_argument("--ship", action="store_true",
                     help=f"rewrite datasets/calibrations/{SHIPPED}.toml from this run")
+    ap.add_argument("--dry-run", action="store_true",
+                    help="with --ship: print the calibration file instead of writing it")
     ap.add_argument("--tag", default="", help="suffix of the result file names")
     args = ap.parse_args(argv)
+    if args.dry_run and not args.ship:
+        ap.error("--dry-run goes with --ship")
+    full = _common.RESULTS / f"{STUDIES['full']}.nc"
+    if args.study == "full" and (args.rerun or not full.exists()):
+        why = "the full study is not run here (about an hour and a half)" if args.rerun \
+            else f"no {full}"
+        print(f"md_calibration: {why}; make it with `rockcem run {STUDIES['full']} -o "
+              f"benchmarks/results/{STUDIES['full']}.nc -j 2`", file=sys.stderr)
+        raise SystemExit(2)
     _common.announce_source()
     t0 = time.perf_counter()
-    ds = md_results(args.rerun)
+    ds = md_results(args.study, args.rerun)
     rows, fits, parts = fit_md(ds, args.quick)
+    shipped, ship_rows = ship_fit(ds)
+    rows += ship_rows
     if args.ship:
-        path = _common.ROOT / "datasets" / "calibrations" / f"{SHIPPED}.toml"
-        part = parts[("patchy", SHIP_SELECTION["cement"], SHIP_SELECTION["scheme"])]
-        write_calibration(
-            part, path, name=SHIPPED, **SHIP_SELECTION,
-            description="Patchy-cement (Model 4) dry frame fitted to the MD pulse tests of the "
-                        "compacted pack with hard contact cement (scene garcia_medina_cement: "
-                        "4 x 4 x 12 largest diameters, resolution 3); n and phi_p0 fitted, "
-                        "delta held at 0 (no bonding pre-stress in the MD). Written by "
-                        "benchmarks/md_calibration.py --ship.")
-        print(f"wrote {path}")
+        ship(shipped, ds, args.dry_run)
     xu, xu_rows, xu_fits = fit_xu()
     scenes = sandstone(50.0 if args.quick else 10.0)
     elapsed = time.perf_counter() - t0
@@ -282,6 +396,7 @@ def main(argv=None):
     rest = [c for c in table.columns if c not in cols]
     table = table[cols + rest]
     attrs = _common.environment_attrs(quick=args.quick, wall_time_s=round(elapsed, 2),
+                                      study=args.study, md_scene=STUDIES[args.study],
                                       **_common.md_source_attrs())
     out = xr.Dataset.from_dataframe(table.reset_index(drop=True).rename_axis("row"))
     for variant, fit in fits.items():
@@ -293,11 +408,13 @@ def main(argv=None):
     for name, sc in scenes.items():
         out[f"{name}_vp"] = sc.vp.sel(model="patchy_cement").rename(depth="depth")
     out.attrs.update({k: str(v) for k, v in attrs.items()})
+    out.attrs["shipped_fit_identifiability_json"] = shipped.attrs["identifiability_json"]
     out.attrs["calibration_in_scene"] = scenes["carcione2022_sandstone_calibrated"].attrs.get(
         "calibration", "")
-    _common.write_netcdf(out, _common.result_path("md_calibration", "nc", args.tag))
-    _common.write_csv(table, _common.result_path("md_calibration", "csv", args.tag), attrs)
-    figure(ds, fits, xu, xu_fits, scenes, _common.result_path("md_calibration", "png", args.tag))
+    stem = f"md_calibration_{args.study}"
+    _common.write_netcdf(out, _common.result_path(stem, "nc", args.tag))
+    _common.write_csv(table, _common.result_path(stem, "csv", args.tag), attrs)
+    figure(ds, fits, xu, xu_fits, scenes, _common.result_path(stem, "png", args.tag))
     show = {"data": ("data", "s"), "sample": ("sample", "s"), "cement": ("cement", "s"),
             "scheme": ("MD scheme", "s"), "variant": ("model", "s"),
             "cct_scheme": ("CCT scheme", "d"), "coordination_number": ("n", ".3g"),
@@ -305,10 +422,18 @@ def main(argv=None):
             "cement_efficiency_err": ("± eta", ".2g"), "thickness": ("eps", ".3g"),
             "thickness_err": ("± eps", ".2g"), "contact_cement_limit": ("phi_p0", ".3g"),
             "contact_cement_limit_err": ("± phi_p0", ".2g"), "misfit_vp": ("misfit Vp", ".3f"),
-            "misfit_vs": ("misfit Vs", ".3f"), "at_bound": ("at bound", "s")}
+            "misfit_vs": ("misfit Vs", ".3f"), "at_bound": ("at bound", "s"),
+            "unidentifiable": ("unidentifiable", "s")}
     show = {k: v for k, v in show.items() if k in table.columns}
     print(_common.markdown(table.fillna({"sample": "", "cement": "", "scheme": "",
-                                         "at_bound": ""}), show))
+                                         "at_bound": "", "unidentifiable": ""}), show))
+    ident = json.loads(shipped.attrs["identifiability_json"])
+    print("shipped fit (compacted, hard, contact): two-parameter fit "
+          + ", ".join(f"{k} = {ident['values'][k]:.4g} ± {ident['stderr'][k]:.2g}"
+                      for k in ident["free"])
+          + ", correlation " + ", ".join(f"{k} {v:+.3f}" for k, v in ident["correlation"].items())
+          + f"; unidentifiable: {', '.join(ident['unidentifiable']) or 'none'}; held: "
+          + (", ".join(f"{k} = {v:g}" for k, v in ident["held"].items()) or "none"))
     print(f"total {elapsed:.1f} s")
 
 

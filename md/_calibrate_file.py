@@ -56,7 +56,10 @@ def write_calibration(fit, path, *, name=None, description="", **selection) -> P
     if not fitted.get("cement_efficiency", True) and params["cement_efficiency"] == 1.0:
         del params["cement_efficiency"]
     params["scheme"] = int(fit.attrs["scheme"])
-    where = ", ".join(f"{k} = {v}" for k, v in selection.items())
+    # The labels of this fit: those selected here, or the data's own scalar coordinates.
+    labels = {**{str(k): c.item() for k, c in one.coords.items() if c.ndim == 0},
+              **selection}
+    where = ", ".join(f"{k} = {v}" for k, v in labels.items())
     ident = json.loads(fit.attrs.get("identifiability_json", "null"))
     held_why = {k: "held: unidentifiable" for k in (ident or {}).get("held", {})}
     record = {

@@ -265,7 +265,9 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
                               {"units": _OBSERVABLES[k], "long_name": f"{k} of the model"})
                for k in obs},
         },
-        coords={**{d: data[d] for d in dims if d in data.coords}, "parameter": names,
+        coords={**{d: data[d] for d in dims if d in data.coords},
+                **{k: c for k, c in data.coords.items() if c.ndim == 0},
+                "parameter": names,
                 "parameter_units": ("parameter", [table[k][4] for k in names]),
                 "cov_i": free_names, "cov_j": free_names, "observed": obs},
     )

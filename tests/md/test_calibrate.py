@@ -454,6 +454,7 @@ def test_full_study_fit_holds_phi_p0_the_data_cannot_see(rng, tmp_path):
     cal = load_calibration(path)
     assert set(cal["uncertainty"]) == {"coordination_number"}
     assert cal["parameters"]["contact_cement_limit"] == 0.05
+    assert "(sample = compacted, cement = hard, scheme = contact)" in cal["data"]
     assert cal["identifiability"]["held"] == ["contact_cement_limit"]
     assert cal["identifiability"]["reason"] == "the rockcem default"
     raw = tomllib.loads(path.read_text())
