@@ -59,11 +59,10 @@ COLOURS = {"contact": "C3", "coating": "C0", "pore_body": "C2", "pendular": "C1"
 
 
 def total_error(ds):
-    """Eq. 11 error and, where the scene has it, the resolution error, in quadrature (km/s)."""
-    err = ds.vp_error
-    if "vp_error_resolution" in ds:
-        err = np.sqrt(err**2 + ds.vp_error_resolution**2)
-    return err
+    """Eq. 11 and resolution errors in quadrature (km/s): :func:`md.calibrate.total_error`."""
+    from md.calibrate import total_error as combined
+
+    return combined(ds, "vp")
 
 
 def checks(ds):
