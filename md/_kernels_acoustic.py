@@ -123,17 +123,18 @@ def _root(parent, b):
 
 
 @njit(cache=True)
-def interface_patches(bond_grain, start, table, first, label):
+def interface_patches(bond_group, start, table, first, label):
     """Connected patches of the grain–cement interface.
 
     Bonds are sorted by cement particle: those of cement particle ``p`` are
-    ``start[p]:start[p + 1]``, ``bond_grain[b]`` the grain of bond ``b``. Two bonds belong to
-    the same patch when they join the *same grain* to two cement particles that share a
-    lattice bond (``table``, rows by cement particle, entries ``first + q`` or −1), and
-    patches are the transitive closure (union–find). ``label[b]`` gets a patch number in
+    ``start[p]:start[p + 1]``, ``bond_group[b]`` the group of bond ``b`` (its grain, or its
+    grain and the neighbouring grain its cell faces). Two bonds belong to the same patch when
+    they are of the *same group* and join two cement particles that share a lattice bond
+    (``table``, rows by cement particle, entries ``first + q`` or −1), and patches are the
+    transitive closure (union–find). ``label[b]`` gets a patch number in
     ``0 .. n_patches - 1`` (numbered by first bond). Returns ``n_patches``.
     """
-    n = bond_grain.shape[0]
+    n = bond_group.shape[0]
     parent = np.arange(n)
     for p in range(table.shape[0]):
         for d in range(table.shape[1]):
@@ -143,7 +144,7 @@ def interface_patches(bond_grain, start, table, first, label):
             q -= first
             for b1 in range(start[p], start[p + 1]):
                 for b2 in range(start[q], start[q + 1]):
-                    if bond_grain[b1] == bond_grain[b2]:
+                    if bond_group[b1] == bond_group[b2]:
                         r1 = _root(parent, b1)
                         r2 = _root(parent, b2)
                         if r1 != r2:

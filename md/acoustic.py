@@ -13,10 +13,11 @@ cemented cell, mass :math:`m_c = \\rho_c c_w^3`, eq. 9). Three kinds of bonds:
 * cement–cement lattice springs to the 18 nearest lattice neighbours (eq. 6, constants from
   :func:`md.cement.lattice_constants`);
 * grain–cement contacts: eq. 4 along the line from the grain centre to the cell centre, with
-  the stiffness of the interface rule (:mod:`md.interface`): by default the grain under each
-  cemented patch is a flat punch on a half-space shared among the patch's cells, which
-  converges as the lattice is refined; ``interface="paper"`` is the source's per-cell contact
-  of diameter :math:`c_w` with mixed moduli, whose stiffness grows with :math:`\\Omega`.
+  the stiffness of the interface rule (:mod:`md.interface`): by default (``"facet"``) the grain
+  under each cemented patch facing one neighbour is a flat punch on a half-space shared among
+  the patch's cells, which converges as the lattice is refined; ``interface="paper"`` is the
+  source's per-cell contact of diameter :math:`c_w` with mixed moduli, whose stiffness grows
+  with :math:`\\Omega`.
 
 Contacts carry dashpots :math:`\\gamma = 2\\zeta\\sqrt{k\\,m_{red}}` with the damping ratio
 :math:`\\zeta = -\\ln e/\\sqrt{\\pi^2 + \\ln^2 e}` of a linear oscillator with restitution ``e``
@@ -38,7 +39,7 @@ import numpy as np
 
 from .cement import (HARD_CEMENT, LATTICE_OFFSETS, CementLattice, CementMaterial,
                      lattice_constants)
-from .interface import INTERFACES, interface_stiffness
+from .interface import INTERFACES, bond_partners, interface_stiffness
 from .space import Box
 from .state import Pack
 
@@ -304,7 +305,7 @@ def _contact_bonds_grains(pack: Pack, m, zeta):
 
 
 def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=None,
-                    cement: CementMaterial = HARD_CEMENT, *, rule="waves", interface="patch",
+                    cement: CementMaterial = HARD_CEMENT, *, rule="waves", interface="facet",
                     restitution=None, slab_thickness=None) -> AcousticSystem:
     """Linearise a (cemented) pack about its equilibrium for the pulse test.
 
@@ -320,9 +321,11 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         Default :data:`md.cement.HARD_CEMENT`.
     rule : {"waves", "paper"}
         Lattice constants, see :func:`md.cement.lattice_constants`.
-    interface : {"patch", "paper"}
-        Grain–cement interface rule (:mod:`md.interface`): ``"patch"`` (default) converges
-        with the resolution; ``"paper"`` is the source's per-cell rule (Sect. III F).
+    interface : {"facet", "patch", "paper"}
+        Grain–cement interface rule (:mod:`md.interface`): ``"facet"`` (default) converges
+        with the resolution and never softens as cement is added; ``"patch"`` joins the necks
+        of a grain into one punch once cement links them; ``"paper"`` is the source's per-cell
+        rule (Sect. III F).
     restitution : float, optional
         Restitution of the contact dashpots, default the pack material's (0.9).
     slab_thickness : float, optional
@@ -387,9 +390,12 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     # (the few grains stay in cache), several times faster than grain order on big lattices.
     order = np.argsort(cj, kind="stable")
     ci, cj, cnrm = ci[order], cj[order], cnrm[order]
-    kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table, n_g, cw, mat, cement, interface)
-    gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
     centres = lattice.centres()[cemented]
+    partner = (bond_partners(ci, centres[cj], x, r, pack.box) if interface == "facet"
+               else None)
+    kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table, n_g, cw, mat, cement, interface,
+                                       partner)
+    gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
     meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=n_lattice,

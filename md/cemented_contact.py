@@ -97,7 +97,7 @@ def _grain_cement(centre, cw, eps):
 
 def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                    material: GrainMaterial = QUARTZ, cement: CementMaterial = HARD_CEMENT,
-                   interface="patch"):
+                   interface="facet"):
     r"""The linearised system of one cemented contact (module docstring): two grains (particles
     0 and 1, no Hertz contact between them) and the cement particles, on a lattice of width
     :math:`R/\Omega` whose cell faces lie on the contact plane and on two planes through the
@@ -120,8 +120,9 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     where[flat] = np.arange(n_c, dtype=np.int32)
     table, _ = _lattice_table(flat.astype(np.int64), where, shape, 2)
     grain, cell, normal = _grain_cement(centre, 1.0 / resolution, eps)
+    # Each grain's cells face the other grain: "facet" and "patch" are the same here.
     kn, kt = interface_stiffness(grain, cell, normal, np.full(2, R), table, 2, cw, material,
-                                 cement, interface)
+                                 cement, interface, 1 - grain)
     _, _, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, "waves")
     grains = np.array([[0.0, 0.0, -(1.0 + eps)], [0.0, 0.0, 1.0 + eps]]) * R
     m_grain = material.density * 4.0 / 3.0 * np.pi * R**3
@@ -138,7 +139,7 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
 def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                               material: GrainMaterial = QUARTZ,
                               cement: CementMaterial = HARD_CEMENT,
-                              interface="patch") -> ContactStiffness:
+                              interface="facet") -> ContactStiffness:
     r"""Static normal and tangential stiffness of one cemented contact on the lattice.
 
     Parameters
@@ -155,7 +156,7 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
         :math:`\varepsilon`, half the axial gap over :math:`R`, ``>= 0``.
     material : GrainMaterial
     cement : CementMaterial
-    interface : {"patch", "paper"}
+    interface : {"facet", "patch", "paper"}
         Grain–cement rule (:mod:`md.interface`).
 
     Returns

@@ -20,7 +20,7 @@ __all__ = ["MD_SCHEMA", "md_scene_from_dict", "run_md_scene", "schema_lines"]
 
 _CEMENTS = ("hard", "soft")
 _SCHEMES = ("contact", "coating", "pore_body", "pendular")
-_INTERFACES = ("patch", "paper")
+_INTERFACES = ("facet", "patch", "paper")
 
 #: key: (default, type, unit, description)
 MD_SCHEMA = {
@@ -38,8 +38,9 @@ MD_SCHEMA = {
                          "resolution error (0 = none)"),
     "schemes": (list(_SCHEMES[:3]), "strings", "",
                 "cementation schemes: the source's contact, coating, pore_body; pendular"),
-    "interface": ("patch", "string", "",
-                  "grain-cement interface: 'patch' (converges in Omega) or 'paper' (per cell)"),
+    "interface": ("facet", "string", "",
+                  "grain-cement interface: 'facet' (converges in Omega), 'patch' or 'paper' "
+                  "(per cell)"),
     "cements": (list(_CEMENTS), "strings", "", "hard and/or soft cement of Table II"),
     "saturations": ([0.0, 0.02, 0.05, 0.1, 0.2], "numbers", "1",
                     "cement saturations S_c (fraction of pore cells)"),
@@ -126,7 +127,8 @@ def md_scene_from_dict(raw: dict) -> dict:
         raise _bad("resolution_check", f"must be 0 (none) or lie in [1, resolution = "
                                        f"{p['resolution']:g}); got {p['resolution_check']:g}")
     if p["interface"] not in _INTERFACES:
-        raise _bad("interface", f"must be 'patch' or 'paper'; got {p['interface']!r}")
+        raise _bad("interface", f"must be 'facet', 'patch' or 'paper'; got "
+                                f"{p['interface']!r}")
     if p["wave"] not in ("p", "s"):
         raise _bad("wave", f"must be 'p' or 's'; got {p['wave']!r}")
     if not 0 < p["time_step_factor"] <= 1:

@@ -45,7 +45,7 @@ def test_md_scene_dataset_units_errors_and_cf(tmp_path):
     np.testing.assert_allclose(out.vp_error_half_slab / out.vp_error, 2.0, rtol=1e-12)
     np.testing.assert_allclose(out.density, 1.65, rtol=1e-15)
     np.testing.assert_allclose(out.porosity.sel(sample="compacted"), 0.38 * np.array([1, 0.9]))
-    assert out.attrs["interface"] == "patch" and out.attrs["Conventions"].startswith("CF-")
+    assert out.attrs["interface"] == "facet" and out.attrs["Conventions"].startswith("CF-")
     path = tmp_path / "md.nc"
     out.to_netcdf(path)
     back = xr.load_dataset(path)
@@ -59,7 +59,7 @@ def test_md_scene_dataset_units_errors_and_cf(tmp_path):
 
 
 @pytest.mark.parametrize("md, message", [
-    ({"interface": "cell"}, r"md.interface must be 'patch' or 'paper'"),
+    ({"interface": "cell"}, r"md.interface must be 'facet', 'patch' or 'paper'"),
     ({"schemes": ["pendulum"]}, r"md.schemes has 'pendulum'; valid: .*pendular"),
     ({"saturations": [0.0, 0.1, 0.1]}, r"md.saturations lists 0.1 more than once"),
     ({"cements": ["hard", "hard"]}, r"md.cements lists 'hard' more than once"),
