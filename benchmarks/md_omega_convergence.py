@@ -1,17 +1,17 @@
-"""Cemented MD moduli against the lattice resolution Omega, for both grain-cement interface rules.
+"""Cemented MD moduli against the lattice resolution Omega, for the grain-cement interface rules.
 
 A compacted quartz pack (default 4 x 4 x 12 largest diameters, the MD scene's sample: settled
 with the accelerated deposition and compacted to 10 MPa, seed 3) is cemented to S_c = 0.1 with
 hard cement by three schemes - ``pendular`` (rings around the contacts, a region fixed in
-space), ``coating`` and the source's ``contact`` growth - at each Omega, linearised with the
-``patch`` interface (the default of ``md.acoustic_system``) and the source's ``paper`` rule,
-and solved for the static P modulus (CG on the free particles). With ``--pulse`` the pulse test
-runs too (patch rule). For each scheme and rule the limit is a least-squares fit
-M(Omega) = M_inf + C / Omega over Omega >= ``--fit-from`` (first order, as the single contact of
-``md_single_contact.py`` converges; its rms residual is the lattice noise), beside the
-three-point Richardson limit M_inf + C Omega^-p (none when the last changes do not shrink with
-one sign); the default Omega is the smallest from which every modulus lies within 1 % of the
-fitted limit.
+space), ``coating`` and the source's ``contact`` growth - at each Omega, linearised with each
+rule of ``--interfaces`` (default ``facet``, the default of ``md.acoustic_system``, ``patch``
+and the source's ``paper``), and solved for the static P modulus (CG on the free particles).
+With ``--pulse`` the pulse test runs too (first rule). For each scheme and rule the limit is a
+least-squares fit M(Omega) = M_inf + C / Omega over Omega >= ``--fit-from`` (first order, as
+the single contact of ``md_single_contact.py`` converges; its rms residual is the lattice
+noise), beside the three-point Richardson limit M_inf + C Omega^-p (none when the last changes
+do not shrink with one sign); the default Omega is the smallest from which every modulus lies
+within 1 % of the fitted limit.
 Cement geometry beside it: mean distance of the cement cells to the grains over R and the
 grain surface the cement touches.
 
@@ -68,23 +68,27 @@ def first_order_fit(omega, value, omega_min):
     return float(coef[0]), rms
 
 
+STYLES = {"facet": "s-", "patch": "o-", "paper": "x--"}
+
+
 def plot(df, lim_df, schemes, saturation, tag):
-    """Modulus against Omega per scheme, both rules; the fitted limit where the fit holds
-    (rms under 1 %)."""
+    """Modulus against Omega per scheme and rule; the fitted limit of the first rule where the
+    fit holds (rms under 1 %)."""
     _common.use_agg()
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, len(schemes), figsize=(4 * len(schemes), 3.6), sharey=True,
                              squeeze=False)
     for ax, scheme in zip(axes[0], schemes):
-        for interface, style in (("patch", "o-"), ("paper", "x--")):
+        rules = list(dict.fromkeys(df.interface))
+        for interface in rules:
             g = df[(df.scheme == scheme) & (df.interface == interface)]
-            ax.plot(g.omega, g.modulus_GPa, style, label=interface)
+            ax.plot(g.omega, g.modulus_GPa, STYLES.get(interface, "+-"), label=interface)
             lim = lim_df[(lim_df.scheme == scheme) & (lim_df.interface == interface)]
-            if (interface == "patch" and len(lim) and lim.fit_rms.values[0] < 0.01
+            if (interface == rules[0] and len(lim) and lim.fit_rms.values[0] < 0.01
                     and lim.modulus_limit_GPa.values[0] > 0):
                 ax.axhline(lim.modulus_limit_GPa.values[0], color="C0", lw=0.7, ls=":",
-                           label="patch: first-order limit")
+                           label=f"{interface}: first-order limit")
         ax.set(title=f"{scheme}, S_c {saturation:g}", xlabel="Omega = R/c_w")
     axes[0, 0].set_ylabel("static P modulus (GPa)")
     axes[0, 0].legend(fontsize=8)
@@ -115,6 +119,8 @@ def main(argv=None):
     ap.add_argument("--size", type=float, nargs=3, default=[4, 4, 12])
     ap.add_argument("--saturation", type=float, default=0.1)
     ap.add_argument("--schemes", nargs="+", default=["pendular", "coating", "contact"])
+    ap.add_argument("--interfaces", nargs="+", default=["facet", "patch", "paper"],
+                    choices=["facet", "patch", "paper"])
     ap.add_argument("--pulse", action="store_true")
     ap.add_argument("--fit-from", type=float, default=10.0,
                     help="smallest Omega of the first-order least-squares limit")
@@ -141,7 +147,7 @@ def main(argv=None):
             t1 = time.perf_counter()
             cem = md.grow_cement(lat, args.saturation, scheme)
             t_grow = time.perf_counter() - t1
-            for interface in ("patch", "paper"):
+            for interface in args.interfaces:
                 t1 = time.perf_counter()
                 system = md.acoustic_system(pack, lat, cem, md.HARD_CEMENT, interface=interface)
                 t_sys = time.perf_counter() - t1
@@ -156,11 +162,11 @@ def main(argv=None):
                            modulus_GPa=st.modulus / 1e9, vp_static=st.velocity,
                            n_cement=int(cem.sum()), cement_distance_over_R=float(
                                lat.distance[cem].mean()) / R,
-                           surface_covered=float(covered) if interface == "patch" else np.nan,
+                           surface_covered=float(covered) if interface != "paper" else np.nan,
                            seconds_lattice=t_lat, seconds_growth=t_grow,
                            seconds_system=t_sys, seconds_static=t_static,
                            vp_pulse=np.nan, vp_pulse_error=np.nan, seconds_pulse=np.nan)
-                if args.pulse and interface == "patch":
+                if args.pulse and interface == args.interfaces[0]:
                     t1 = time.perf_counter()
                     ds = md.pulse_test(system)
                     row.update(vp_pulse=float(ds.velocity), vp_pulse_error=float(
