@@ -304,7 +304,7 @@ def figure(ds, fits, xu, xu_fits, scenes, path):
     samples, cements = list(fits["patchy"].sample.values), list(fits["patchy"].cement.values)
     ncol = max(len(samples) * len(cements), 4)
     fig, axes = plt.subplots(2, ncol, figsize=(4 * ncol, 8), constrained_layout=True)
-    colours = {"contact": "C3", "coating": "C0", "pore_body": "C2"}
+    colours = {"contact": "C3", "coating": "C0", "pore_body": "C2", "pendular": "C1"}
     s = ds.saturation.values
     for j, (sample, cement) in enumerate([(a, b) for a in samples for b in cements]):
         ax = axes[0, j]

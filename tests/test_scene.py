@@ -372,7 +372,12 @@ def test_shipped_calibrated_sandstone():
     knobs = load_scene("carcione2022_sandstone_calibrated").sections["models.patchy_cement"]
     assert all(knobs[k] == v for k, v in cal["parameters"].items())
     assert "garcia_medina_compacted_patchy" in calibrated.attrs["calibration"]
-    assert cal["model"] == "patchy_cement" and cal["misfit"]["vp"] < 0.1
+    # Fitted to the full-size MD study (pendular contact cement, compacted, hard): the patchy
+    # frame follows the MD's steep rise and plateau in S_c only to about 23 % rms, and the data
+    # do not determine phi_p0, which is held (benchmarks/README.md, md_calibration).
+    assert cal["model"] == "patchy_cement" and 0 < cal["misfit"]["vp"] < 0.3
+    assert cal["identifiability"]["held"] == ["contact_cement_limit"]
+    assert cal["parameters"]["contact_cement_limit"] == 0.05
 
 
 def test_sweep_over_calibration_files(tmp_path):
