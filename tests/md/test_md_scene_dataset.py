@@ -129,3 +129,36 @@ def test_pulse_stage_file_redone_when_the_scene_changes(tmp_path, change):
     assert bare_now == bare and bare_now.file(tmp_path) == bare.file(tmp_path)
     stale = pack != "pack-a" or "wave" in change or "time_step_factor" in change
     assert (_load_member(bare_now.file(tmp_path), bare_now.attrs(now, pack)) is None) == stale
+
+
+def test_committed_full_study_has_the_scene_schema_and_its_scene():
+    """benchmarks/results/garcia_medina_full.nc (the full-size study, an hour of MD) is the
+    output of the shipped scene as it is now: same keys in its attributes, CF units and long
+    names on every variable, the four output dimensions, finite velocities and errors."""
+    import json
+    from pathlib import Path
+
+    from cf_xarray.units import units as udunits
+
+    from rockcem.scene import read_scene_toml
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "garcia_medina_full.nc"
+    if not path.exists():
+        pytest.skip("no committed study file in this checkout")
+    ds = xr.load_dataset(path)
+    scene = md_scene_from_dict(read_scene_toml("garcia_medina_full")[0])
+    assert json.loads(ds.attrs["scene_json"])["md"] == scene["md"]
+    assert ds.vp.dims == ("sample", "cement", "scheme", "saturation")
+    assert list(ds.saturation.values) == scene["md"]["saturations"]
+    for name, var in ds.variables.items():
+        assert var.attrs.get("long_name"), name
+        if var.dtype.kind not in "OSU":
+            udunits.Unit(var.attrs["units"])
+    for name in ("vp", "vp_error", "vp_static", "vp_error_resolution", "vp_resolution_check"):
+        assert np.all(np.isfinite(ds[name])) and np.all(ds[name] >= 0), name
+    # The uncemented pack is one pulse test per sample, shared by every cement and scheme,
+    # with no resolution error (it has no cement lattice).
+    bare = ds.vp.sel(saturation=0.0)
+    assert np.all(bare == bare.isel(cement=0, scheme=0))
+    assert np.all(ds.vp_error_resolution.sel(saturation=0.0) == 0)
+    assert 25 < float(ds.stress.sel(sample="compacted")) < 40           # MPa, target 30
