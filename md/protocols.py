@@ -200,10 +200,46 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
         "frozen_grains": np.flatnonzero(fixed).tolist()})
 
 
+#: Options of :func:`settle` and :func:`compact` -> the metadata key that records each.
+_SETTLE_KEYS = {"size": "size_diameters", "radius_range": "radius_range_m", "seed": "seed",
+                "protocol": "protocol", "drag": "drag",
+                "fall_stiffness_factor": "fall_stiffness_factor", "wave": "wave",
+                "drop_height": "drop_height_m"}
+_COMPACT_KEYS = {"target_stress": "target_stress", "target_porosity": "target_porosity",
+                 "stress_measure": "stress_measure", "strain_step": "strain_step",
+                 "slab": "slab", "isotropic": "isotropic"}
+
+
+def _stage_matches(path, options, keys):
+    """The pack saved at ``path`` if every option given (and recorded) equals its record, else
+    None (no file, or made with other options)."""
+    from .state import load_pack
+
+    if not path.exists():
+        return None
+    pack = load_pack(path)
+    for name, value in (options or {}).items():
+        key = keys.get(name)
+        if key is None or value is None or key not in pack.metadata:
+            continue
+        recorded = pack.metadata[key]
+        if isinstance(value, (tuple, list)):
+            same = len(value) == len(recorded) and np.allclose(value, recorded, rtol=1e-12)
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            same = recorded is not None and np.isclose(value, recorded, rtol=1e-12)
+        else:
+            same = value == recorded
+        if not same:
+            return None
+    return pack
+
+
 def prepare_pack(workdir, *, settle_options=None, compact_options=None, progress=False) -> Pack:
     """Settle then compact a pack, saving each stage in ``workdir`` and resuming from the last
     saved one: ``settle.nc`` and ``compact.nc``. An interrupted run loses at most the stage it
-    was in; a finished stage is never recomputed (delete its file to redo it).
+    was in; a finished stage is not recomputed unless an option given here differs from the one
+    recorded in its file (another seed, size, drag, compaction stress, ...), when it is redone
+    with the stages after it (delete a file to redo it anyway).
 
     Parameters
     ----------
@@ -221,15 +257,20 @@ def prepare_pack(workdir, *, settle_options=None, compact_options=None, progress
     """
     from pathlib import Path
 
-    from .state import load_pack, save_pack
+    from .state import save_pack
 
     folder = Path(workdir)
     folder.mkdir(parents=True, exist_ok=True)
     settled_file, compacted_file = folder / "settle.nc", folder / "compact.nc"
-    if compact_options is not None and compacted_file.exists():
-        return load_pack(compacted_file)
-    if settled_file.exists():
-        pack = load_pack(settled_file)
+    settled = _stage_matches(settled_file, settle_options, _SETTLE_KEYS)
+    if compact_options is not None and settled is not None:
+        compacted = _stage_matches(compacted_file, {**(settle_options or {}),
+                                                    **compact_options},
+                                   {**_SETTLE_KEYS, **_COMPACT_KEYS})
+        if compacted is not None:
+            return compacted
+    if settled is not None:
+        pack = settled
     else:
         pack = settle(**(settle_options or {}), progress=progress)
         save_pack(pack, settled_file)
