@@ -60,6 +60,7 @@ import xarray as xr  # noqa: E402
 from numba import njit  # noqa: E402
 
 from md._kernels_contact import accumulate_forces  # noqa: E402
+from md._kernels_integrate import kick, kick_drift  # noqa: E402
 from md._kernels_neighbors import moved_beyond  # noqa: E402
 
 WORK = RESULTS / "md_throughput_work"
@@ -133,25 +134,11 @@ def verlet_checked(x, v, w, r, m, inertia, pairs, hist, box_l, E_f, G_f, beta_c,
     gravity, floor or drag; ``force``, ``torque`` hold the forces of the current state and are
     updated), with the displacement test of ``md.neighbors.needs_rebuild`` after every step.
     Returns ``(steps done, rebuild due)``; stops after the step at which a rebuild is due."""
-    n = x.shape[0]
     for step in range(n_steps):
-        for i in range(n):
-            if fixed[i]:
-                for a in range(3):
-                    x[i, a] += dt * v[i, a]
-                continue
-            for a in range(3):
-                v[i, a] += 0.5 * dt * force[i, a] / m[i]
-                w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
-                x[i, a] += dt * v[i, a]
+        kick_drift(x, v, w, m, inertia, force, torque, dt, 0.0, fixed, True)
         accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
                           force, torque)
-        for i in range(n):
-            if fixed[i]:
-                continue
-            for a in range(3):
-                v[i, a] += 0.5 * dt * force[i, a] / m[i]
-                w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
+        kick(v, w, m, inertia, force, torque, dt, 0.0, 0.0, fixed, True)
         if moved_beyond(x, x_ref, box_l[0], box_l[1], half_skin):
             return step + 1, True
     return n_steps, False

@@ -7,7 +7,7 @@ from numba import njit
 
 from ._kernels_contact import accumulate_forces, branch_vector, pair_force
 
-__all__ = ["verlet_run", "elastic_energy", "floor_forces"]
+__all__ = ["verlet_run", "kick_drift", "kick", "elastic_energy", "floor_forces"]
 
 
 @njit(cache=True)
@@ -55,6 +55,36 @@ def elastic_energy(x, r, pairs, box_l, E_f):
     return total
 
 
+@njit(cache=True, inline="always")
+def kick_drift(x, v, w, m, inertia, force, torque, dt, gravity_z, fixed, has_fixed):
+    """First half of a velocity-Verlet step: half kick by ``force``, ``torque`` and gravity,
+    then the drift; grains with ``fixed[i]`` (where ``has_fixed``) only drift."""
+    for i in range(x.shape[0]):
+        if has_fixed and fixed[i]:
+            for a in range(3):
+                x[i, a] += dt * v[i, a]
+            continue
+        for a in range(3):
+            v[i, a] += 0.5 * dt * force[i, a] / m[i]
+            w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
+            x[i, a] += dt * v[i, a]
+        v[i, 2] += 0.5 * dt * gravity_z
+
+
+@njit(cache=True, inline="always")
+def kick(v, w, m, inertia, force, torque, dt, gravity_z, drag, fixed, has_fixed):
+    """Second half of a velocity-Verlet step: the drag ``-drag m v`` added to ``force``, then
+    the half kick; grains with ``fixed[i]`` (where ``has_fixed``) keep their velocities."""
+    for i in range(v.shape[0]):
+        if has_fixed and fixed[i]:
+            continue
+        for a in range(3):
+            force[i, a] -= drag * m[i] * v[i, a]
+            v[i, a] += 0.5 * dt * force[i, a] / m[i]
+            w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
+        v[i, 2] += 0.5 * dt * gravity_z
+
+
 @njit(cache=True)
 def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt, n_steps,
                gravity_z, record_every, energy, z_floor=-np.inf, wall_hist=np.zeros((0, 3)),
@@ -91,27 +121,11 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
                 e -= m[i] * gravity_z * x[i, 2]
             energy[k] = e
             k += 1
-        for i in range(n):
-            if has_fixed and fixed[i]:
-                for a in range(3):
-                    x[i, a] += dt * v[i, a]
-                continue
-            for a in range(3):
-                v[i, a] += 0.5 * dt * force[i, a] / m[i]
-                w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
-                x[i, a] += dt * v[i, a]
-            v[i, 2] += 0.5 * dt * gravity_z
+        kick_drift(x, v, w, m, inertia, force, torque, dt, gravity_z, fixed, has_fixed)
         accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
                           force, torque)
         if use_floor:
             floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt,
                          force, torque)
-        for i in range(n):
-            if has_fixed and fixed[i]:
-                continue
-            for a in range(3):
-                force[i, a] -= drag * m[i] * v[i, a]
-                v[i, a] += 0.5 * dt * force[i, a] / m[i]
-                w[i, a] += 0.5 * dt * torque[i, a] / inertia[i]
-            v[i, 2] += 0.5 * dt * gravity_z
+        kick(v, w, m, inertia, force, torque, dt, gravity_z, drag, fixed, has_fixed)
     return k

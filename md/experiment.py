@@ -11,16 +11,18 @@ on several processes. SI units inside; the scene file gives the compaction stres
 from __future__ import annotations
 
 import difflib
+from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
+from .interface import INTERFACES
+
 __all__ = ["MD_SCHEMA", "md_scene_from_dict", "run_md_scene", "schema_lines"]
 
 _CEMENTS = ("hard", "soft")
 _SCHEMES = ("contact", "coating", "pore_body", "pendular")
-_INTERFACES = ("facet", "patch", "paper")
 
 #: key: (default, type, unit, description)
 MD_SCHEMA = {
@@ -38,7 +40,7 @@ MD_SCHEMA = {
                          "resolution error (0 = none)"),
     "schemes": (list(_SCHEMES[:3]), "strings", "",
                 "cementation schemes: the source's contact, coating, pore_body; pendular"),
-    "interface": ("facet", "string", "",
+    "interface": (INTERFACES[0], "string", "",
                   "grain-cement interface: 'facet' (converges in Omega), 'patch' or 'paper' "
                   "(per cell)"),
     "cements": (list(_CEMENTS), "strings", "", "hard and/or soft cement of Table II"),
@@ -126,9 +128,9 @@ def md_scene_from_dict(raw: dict) -> dict:
     if p["resolution_check"] != 0 and not 1 <= p["resolution_check"] < p["resolution"]:
         raise _bad("resolution_check", f"must be 0 (none) or lie in [1, resolution = "
                                        f"{p['resolution']:g}); got {p['resolution_check']:g}")
-    if p["interface"] not in _INTERFACES:
-        raise _bad("interface", f"must be 'facet', 'patch' or 'paper'; got "
-                                f"{p['interface']!r}")
+    if p["interface"] not in INTERFACES:
+        names = ", ".join(map(repr, INTERFACES[:-1])) + f" or {INTERFACES[-1]!r}"
+        raise _bad("interface", f"must be {names}; got {p['interface']!r}")
     if p["wave"] not in ("p", "s"):
         raise _bad("wave", f"must be 'p' or 's'; got {p['wave']!r}")
     if not 0 < p["time_step_factor"] <= 1:
@@ -176,28 +178,23 @@ _PULSE_KEYS = ("interface", "wave", "time_step_factor", "seed")
 _UNCEMENTED_KEYS = ("wave", "time_step_factor")
 
 
+@dataclass(frozen=True)
 class _Member:
     """One pulse test of a study: a pack (sample), cement, scheme, saturation and resolution.
-    The uncemented member (S_c = 0) does not depend on the cement, scheme or resolution and is
-    run once per sample."""
+    The uncemented member (S_c = 0) does not depend on the cement, scheme or resolution: those
+    are None, so it is one member per sample (:meth:`of`)."""
 
-    __slots__ = ("sample", "cement", "scheme", "saturation", "resolution")
+    sample: str
+    cement: str | None
+    scheme: str | None
+    saturation: float
+    resolution: float | None
 
-    def __init__(self, sample, cement, scheme, saturation, resolution):
-        bare = saturation == 0
-        self.sample, self.saturation = sample, float(saturation)
-        self.cement = None if bare else cement
-        self.scheme = None if bare else scheme
-        self.resolution = None if bare else float(resolution)
-
-    def key(self):
-        return (self.sample, self.cement, self.scheme, self.saturation, self.resolution)
-
-    def __eq__(self, other):
-        return self.key() == other.key()
-
-    def __hash__(self):
-        return hash(self.key())
+    @classmethod
+    def of(cls, sample, cement, scheme, saturation, resolution):
+        if saturation == 0:
+            return cls(sample, None, None, 0.0, None)
+        return cls(sample, cement, scheme, float(saturation), float(resolution))
 
     def file(self, folder):
         if self.cement is None:
@@ -384,7 +381,7 @@ def run_md_scene(scene: dict, *, workdir=None, jobs=1, progress=False):
         stress.append(float(sig[2, 2]) / 1e6)
         stress_mean.append(float(np.trace(sig)) / 3e6)
     resolutions = [p["resolution"]] + ([p["resolution_check"]] if p["resolution_check"] else [])
-    grid = {(sample, c, scheme, s, res): _Member(sample, c, scheme, s, res)
+    grid = {(sample, c, scheme, s, res): _Member.of(sample, c, scheme, s, res)
             for sample in p["samples"] for c in p["cements"] for scheme in p["schemes"]
             for s in p["saturations"] for res in resolutions}
     results, todo = {}, []

@@ -87,8 +87,8 @@ import numpy as np
 __all__ = ["INTERFACES", "interface_area", "patch_radius", "interface_patches",
            "interface_stiffness", "bond_partners"]
 
-#: Grain–cement interface rules of :func:`md.acoustic_system`.
-INTERFACES = ("patch", "paper", "facet")
+#: Grain–cement interface rules of :func:`md.acoustic_system`, the default first.
+INTERFACES = ("facet", "patch", "paper")
 
 
 def bond_partners(bond_grain, cell_centres, positions, radii, box, k=8) -> np.ndarray:

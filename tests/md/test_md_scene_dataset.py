@@ -110,14 +110,14 @@ def test_pulse_stage_file_redone_when_the_scene_changes(tmp_path, change):
     from md.experiment import _load_member, _Member
 
     p = _scene()["md"]
-    cemented = _Member("loose", "hard", "contact", 0.1, p["resolution"])
-    bare = _Member("loose", "hard", "contact", 0.0, p["resolution"])
+    cemented = _Member.of("loose", "hard", "contact", 0.1, p["resolution"])
+    bare = _Member.of("loose", "hard", "contact", 0.0, p["resolution"])
     for m in (cemented, bare):
         _stage(m.file(tmp_path), m, p, "pack-a")
     change = dict(change)
     pack = "pack-b" if change.pop("pack", None) else "pack-a"
     now = {**p, **change}
-    again = _Member("loose", "hard", "contact", 0.1, now["resolution"])
+    again = _Member.of("loose", "hard", "contact", 0.1, now["resolution"])
     done = _load_member(again.file(tmp_path), again.attrs(now, pack))
     if not change and pack == "pack-a":          # the same scene resumes from the file
         assert done["velocity"] == 2000.0
@@ -125,7 +125,7 @@ def test_pulse_stage_file_redone_when_the_scene_changes(tmp_path, change):
         assert done is None
     # The uncemented member is shared by every cement, scheme and resolution: only the wave,
     # the time step and the pack make it stale.
-    bare_now = _Member("loose", "soft", "pendular", 0.0, now["resolution"])
+    bare_now = _Member.of("loose", "soft", "pendular", 0.0, now["resolution"])
     assert bare_now == bare and bare_now.file(tmp_path) == bare.file(tmp_path)
     stale = pack != "pack-a" or "wave" in change or "time_step_factor" in change
     assert (_load_member(bare_now.file(tmp_path), bare_now.attrs(now, pack)) is None) == stale
