@@ -9,7 +9,9 @@ cemented cell, mass :math:`m_c = \\rho_c c_w^3`, eq. 9). Three kinds of bonds:
   :math:`k_n = \\partial F_n/\\partial\\xi = 2E_f a` and Mindlin tangential stiffness
   :math:`k_s = 8 G_f a = 4 a G/(2-\\nu)`, :math:`a = \\sqrt{R_f\\xi_0}`; translations only, as in
   the paper's eqs. 4–5 (:math:`\\mathbf d = \\mathbf d_2 - \\mathbf d_1`), without the geometric
-  stiffness of the pre-stress;
+  stiffness of the pre-stress. ``normal_stiffness="secant"`` takes instead the source's literal
+  eq. 4, whose :math:`\\kappa_n` is that of eq. 1, :math:`\\tfrac43 E_f a` (the secant
+  :math:`F_n/\\xi`, two thirds of the tangent);
 * cement–cement lattice springs to the 18 nearest lattice neighbours (eq. 6, constants from
   :func:`md.cement.lattice_constants`);
 * grain–cement contacts: eq. 4 along the line from the grain centre to the cell centre, with
@@ -17,7 +19,8 @@ cemented cell, mass :math:`m_c = \\rho_c c_w^3`, eq. 9). Three kinds of bonds:
   under each cemented patch facing one neighbour is a flat punch on a half-space shared among
   the patch's cells, which converges as the lattice is refined; ``interface="paper"`` is the
   source's per-cell contact of diameter :math:`c_w` with mixed moduli, whose stiffness grows
-  with :math:`\\Omega`.
+  with :math:`\\Omega` (also two thirds of it in the normal direction with
+  ``normal_stiffness="secant"``).
 
 Contacts carry dashpots :math:`\\gamma = 2\\zeta\\sqrt{k\\,m_{red}}` with the damping ratio
 :math:`\\zeta = -\\ln e/\\sqrt{\\pi^2 + \\ln^2 e}` of a linear oscillator with restitution ``e``
@@ -44,7 +47,12 @@ from .space import Box
 from .state import Pack
 
 __all__ = ["AcousticSystem", "acoustic_system", "cement_block", "static_modulus",
-           "pulse_test", "damping_ratio", "StaticModulus", "dashpots"]
+           "pulse_test", "damping_ratio", "StaticModulus", "dashpots", "NORMAL_STIFFNESS"]
+
+#: Normal stiffness of the Hertzian bonds of eq. 4: the tangent (default) or the source's secant.
+NORMAL_STIFFNESS = ("tangent", "secant")
+#: k_n / (E_f a) of each choice: dF/dxi of F = (4/3) E_f sqrt(R) xi^(3/2), and F/xi (eq. 1).
+_NORMAL_FACTOR = {"tangent": 2.0, "secant": 4.0 / 3.0}
 
 _LATTICE_NORMALS = LATTICE_OFFSETS / np.linalg.norm(LATTICE_OFFSETS, axis=1)[:, None]
 _LATTICE_LENGTH2 = np.sum(LATTICE_OFFSETS**2, axis=1).astype(float)     # |x|^2 / c_w^2
@@ -282,9 +290,9 @@ def _lattice_table(cells, where, shape, first):
     return table, int(n)
 
 
-def _contact_bonds_grains(pack: Pack, m, zeta):
+def _contact_bonds_grains(pack: Pack, m, zeta, normal_factor=2.0):
     """Grain–grain contacts of the pack (grain masses ``m``) linearised at their equilibrium
-    overlap."""
+    overlap, normal stiffness ``normal_factor`` E_f a."""
     from .neighbors import build_neighbors
     from .space import minimum_image
 
@@ -298,7 +306,7 @@ def _contact_bonds_grains(pack: Pack, m, zeta):
     ri, rj = r[p[:, 0]], r[p[:, 1]]
     R_f = ri * rj / (ri + rj)
     a = np.sqrt(R_f * xi)
-    kn = 2.0 * mat.E_f * a
+    kn = normal_factor * mat.E_f * a
     kt = 8.0 * mat.G_f * a
     gn, gt = dashpots(kn, kt, m[p[:, 0]], m[p[:, 1]], zeta)
     return p[:, 0], p[:, 1], d / dist[:, None], kn, kt, gn, gt
@@ -306,7 +314,8 @@ def _contact_bonds_grains(pack: Pack, m, zeta):
 
 def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=None,
                     cement: CementMaterial = HARD_CEMENT, *, rule="waves", interface="facet",
-                    restitution=None, slab_thickness=None) -> AcousticSystem:
+                    normal_stiffness="tangent", restitution=None,
+                    slab_thickness=None) -> AcousticSystem:
     """Linearise a (cemented) pack about its equilibrium for the pulse test.
 
     Parameters
@@ -326,6 +335,13 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         with the resolution and never softens as cement is added; ``"patch"`` joins the necks
         of a grain into one punch once cement links them; ``"paper"`` is the source's per-cell
         rule (Sect. III F).
+    normal_stiffness : {"tangent", "secant"}
+        Normal stiffness of the Hertzian bonds (grain–grain, and grain–cement under
+        ``interface="paper"``): ``"tangent"`` (default) the derivative of the Hertz force,
+        :math:`2E_f a`, the stiffness of the linearised contact; ``"secant"`` the source's eq. 4
+        read literally, whose :math:`\\kappa_n` is eq. 1's :math:`\\tfrac43 E_f a` (the force
+        over the overlap, two thirds of the tangent), kept to reproduce the source. The
+        tangential stiffness is Mindlin's in both.
     restitution : float, optional
         Restitution of the contact dashpots, default the pack material's (0.9).
     slab_thickness : float, optional
@@ -343,12 +359,16 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         raise ValueError("give both lattice and cemented, or neither")
     if interface not in INTERFACES:
         raise ValueError(f"interface must be one of {INTERFACES}; got {interface!r}")
+    if normal_stiffness not in NORMAL_STIFFNESS:
+        raise ValueError(f"normal_stiffness must be one of {NORMAL_STIFFNESS}; "
+                         f"got {normal_stiffness!r}")
+    normal_factor = _NORMAL_FACTOR[normal_stiffness]
     mat = pack.material
     e = mat.restitution if restitution is None else restitution
     zeta = damping_ratio(e)
     r = pack.radii
     m_grain = mat.density * 4.0 / 3.0 * np.pi * r**3
-    gi, gj, gnrm, gkn, gkt, ggn, ggt = _contact_bonds_grains(pack, m_grain, zeta)
+    gi, gj, gnrm, gkn, gkt, ggn, ggt = _contact_bonds_grains(pack, m_grain, zeta, normal_factor)
     x = pack.positions.copy()
     x[:, 0] %= pack.box.lx
     x[:, 1] %= pack.box.ly
@@ -359,7 +379,8 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     extent = (float(np.min(x[:, 2] - r)), float(np.max(x[:, 2] + r)))
     meta = {"n_grain_contacts": int(gi.size), "n_cement": 0, "n_grain_cement": 0,
             "cement_vp": cement.vp, "cement_vs": cement.vs, "cement_density": cement.density,
-            "lattice_rule": rule, "interface": interface, "restitution": e,
+            "lattice_rule": rule, "interface": interface, "normal_stiffness": normal_stiffness,
+            "restitution": e,
             "mean_radius": float(r.mean())}
     if lattice is None or not np.any(cemented):
         return AcousticSystem(
@@ -395,6 +416,8 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
                else None)
     kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table, n_g, cw, mat, cement, interface,
                                        partner)
+    if interface == "paper":         # the source's per-cell bond is eq. 4 too
+        kn_gc = kn_gc * (normal_factor / 2.0)
     gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)

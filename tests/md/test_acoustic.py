@@ -152,6 +152,46 @@ def test_cubic_pack_static_moduli_match_the_contact_chain():
     assert static_modulus(system, "s").modulus == pytest.approx(8 * QUARTZ.G_f * a / d, rel=1e-8)
 
 
+def test_secant_normal_stiffness_is_the_force_over_the_overlap():
+    """``normal_stiffness="secant"`` (the source's eq. 4 with eq. 1's kappa_n): on the simple
+    cubic pack M = F_n(xi) / (xi d), the Hertz force over the overlap (md.contact.hertz_force,
+    the force law the pack was compacted with), and the shear modulus is unchanged."""
+    from md.contact import hertz_force
+
+    R, xi = 1e-4, 1e-7
+    pack, d = cubic_pack((3, 3, 12), R, xi)
+    secant = acoustic_system(pack, normal_stiffness="secant")
+    tangent = acoustic_system(pack)
+    force = float(hertz_force(xi, R / 2, QUARTZ.E_f))
+    assert static_modulus(secant, "p").modulus == pytest.approx(force / xi / d, rel=1e-8)
+    assert static_modulus(secant, "s").modulus == pytest.approx(
+        static_modulus(tangent, "s").modulus, rel=1e-8)
+    # the tangent is the derivative of the same force law (central difference)
+    h = 1e-4 * xi
+    dfdxi = (float(hertz_force(xi + h, R / 2, QUARTZ.E_f))
+             - float(hertz_force(xi - h, R / 2, QUARTZ.E_f))) / (2 * h)
+    assert static_modulus(tangent, "p").modulus == pytest.approx(dfdxi / d, rel=1e-7)
+
+
+@pytest.mark.parametrize("interface,factor", [("paper", 2.0 / 3.0), ("facet", 1.0)])
+def test_secant_scales_the_per_cell_interface_only(cemented_cubic, interface, factor):
+    """The source's per-cell grain–cement bond is eq. 4 too, so the secant reading takes two
+    thirds of its normal stiffness; the facet rule (a punch on a half-space, linear elastic)
+    does not depend on it. Tangential stiffnesses never change."""
+    pack, lat, cem, _ = cemented_cubic
+    tangent = acoustic_system(pack, lat, cem, interface=interface)
+    secant = acoustic_system(pack, lat, cem, interface=interface, normal_stiffness="secant")
+    n_g = pack.n_grains
+    gc = tangent.bond_j >= n_g                        # grain–cement bonds
+    assert gc.any() and np.array_equal(tangent.bond_j, secant.bond_j)
+    np.testing.assert_allclose(secant.bond_kn[gc], factor * tangent.bond_kn[gc], rtol=1e-12)
+    np.testing.assert_allclose(secant.bond_kn[~gc], 2.0 / 3.0 * tangent.bond_kn[~gc],
+                               rtol=1e-12)
+    np.testing.assert_array_equal(secant.bond_kt, tangent.bond_kt)
+    with pytest.raises(ValueError, match="normal_stiffness"):
+        acoustic_system(pack, normal_stiffness="chord")
+
+
 def test_cubic_pack_pulse_velocity_near_the_long_wave_limit():
     pack, d = cubic_pack((3, 3, 48))
     system = acoustic_system(pack, slab_thickness=4 * d)
