@@ -12,9 +12,19 @@ loads) and the peak resident memory of the child and its workers is read from
 ``ru_maxrss`` of the children (the largest single process) and, for two processes, from the
 workers' own reports (their sum is the study's peak).
 
-Output: ``results/md_study_parallel.csv`` and the table on stdout. Run:
-``python benchmarks/md_study_parallel.py`` (a few minutes; the machine should be otherwise idle:
-the ratio measures what a second core gives, and any other load takes from it).
+``--scene garcia_medina_full`` times a subset of the full-size study the same way (its pack,
+8 x 8 x 32 diameters, is made in ``results/md_study_parallel_full_work/pack`` before the timed
+runs, about half an hour, unless the scene's own ``settle.nc`` and ``compact.nc`` are copied
+there; ``--omega`` must then exceed the scene's ``resolution_check``, 4;
+``--samples``, ``--schemes``, ``--cements`` and ``--saturations`` choose the members, each also
+run at the scene's ``resolution_check``).
+
+Output: ``results/md_study_parallel[_<tag>].csv`` (tag ``full`` by default for the full
+scene) and the table on stdout. Run:
+``python benchmarks/md_study_parallel.py [--scene garcia_medina_full --omega 6 --schemes contact
+pendular --saturations 0.05 0.1]`` (a few minutes; two for that subset; the machine should
+be otherwise idle: the ratio measures what a second core gives, and any other load takes from
+it).
 """
 
 from __future__ import annotations
@@ -57,17 +67,31 @@ def main(argv=None):
     ap.add_argument("--omega", type=float, default=8.0)
     ap.add_argument("--saturations", type=float, nargs="+", default=[0.02, 0.05, 0.1, 0.2])
     ap.add_argument("--jobs", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--scene", default="garcia_medina_cement",
+                    choices=["garcia_medina_cement", "garcia_medina_full"])
+    ap.add_argument("--schemes", nargs="+", default=None, help="default: the scene's")
+    ap.add_argument("--cements", nargs="+", default=None, help="default: the scene's")
+    ap.add_argument("--samples", nargs="+", default=["compacted"],
+                    choices=["loose", "compacted"])
+    ap.add_argument("--tag", default=None,
+                    help="result file tag (default: none, 'full' with garcia_medina_full)")
     args = ap.parse_args(argv)
     _common.announce_source()
-    raw = read_scene_toml("garcia_medina_cement")[0]
-    raw["md"].update(samples=["compacted"], resolution=args.omega, saturations=args.saturations)
+    raw = read_scene_toml(args.scene)[0]
+    raw["md"].update(samples=args.samples, resolution=args.omega, saturations=args.saturations)
+    for key in ("schemes", "cements"):
+        if getattr(args, key) is not None:
+            raw["md"][key] = getattr(args, key)
     scene = md_scene_from_dict(raw)
     p = scene["md"]
-    work = _common.RESULTS / f"{NAME}_work"
+    full = args.scene == "garcia_medina_full"
+    tag = args.tag if args.tag is not None else ("full" if full else "")
+    work = _common.RESULTS / (f"{NAME}_full_work" if full else f"{NAME}_work")
     prepare_pack(work / "pack", settle_options={
         "size": tuple(p["size"]), "radius_range": tuple(p["radius_range"]), "seed": p["seed"],
         "fall_stiffness_factor": p["fall_stiffness_factor"]},
-        compact_options={"target_stress": p["compaction_stress"] * 1e6}, progress=True)
+        compact_options=({"target_stress": p["compaction_stress"] * 1e6}
+                         if "compacted" in p["samples"] else None), progress=True)
     rows, vps = [], {}
     for jobs in args.jobs:
         shutil.rmtree(work / "pulse", ignore_errors=True)
@@ -95,11 +119,19 @@ def main(argv=None):
         print(f"| {r.jobs} | {r.wall_s:.1f} | {r.member_sum_s:.1f} | {r.speed_up_vs_first:.2f} "
               f"| {r.peak_rss_main_GB:.2f} / {r.peak_rss_largest_worker_GB:.2f} |")
     print(f"velocities identical across process counts: {same}")
+    # distinct pulse tests: cemented members (again at the resolution check, if any), and one
+    # uncemented member per sample where S_c = 0 is asked for
+    n_cemented = (sum(sat > 0 for sat in args.saturations) * len(p["schemes"])
+                  * len(p["cements"]) * len(p["samples"]))
     attrs = _common.environment_attrs(
-        benchmark=NAME, omega=args.omega, saturations=str(args.saturations),
-        members=len(args.saturations) * 6 + 1, identical_results=int(same),
-        **_common.md_source_attrs())
-    _common.write_csv(frame, _common.result_path(NAME, "csv"), attrs)
+        benchmark=NAME, scene=args.scene, omega=args.omega,
+        resolution_check=p["resolution_check"], saturations=str(args.saturations),
+        schemes=" ".join(p["schemes"]), cements=" ".join(p["cements"]),
+        samples=" ".join(p["samples"]),
+        members=(n_cemented * (2 if p["resolution_check"] else 1)
+                 + (len(p["samples"]) if 0 in args.saturations else 0)),
+        identical_results=int(same), **_common.md_source_attrs())
+    _common.write_csv(frame, _common.result_path(NAME, "csv", tag), attrs)
 
 
 if __name__ == "__main__":

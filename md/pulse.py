@@ -21,6 +21,9 @@ if TYPE_CHECKING:
 
 __all__ = ["pulse_test"]
 
+#: Settings of md.acoustic_system copied into the pulse test's attributes.
+_LINEARISATION = ("lattice_rule", "interface", "normal_stiffness", "restitution")
+
 def _first_peak(signal, floor=0.0):
     """Index of the maximum of the first run of samples at or above half the global maximum
     (−1 if that maximum is not above ``floor`` or the run has not ended)."""
@@ -253,5 +256,8 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
                "distance_m": L, "delta_L_m": dL, "delta_T_s": dT,
                "delta_L_choice": "mean grain radius R (cell width for a cement block); "
                                  "velocity_error_half_slab uses half a slab",
-               "references": "García & Medina, Sects. III F-G, eqs. 4-11"},
+               "references": "García & Medina, Sects. III F-G, eqs. 4-11",
+               # how the sample was linearised (md.acoustic_system), where it says
+               **{key: system.metadata[key] for key in _LINEARISATION
+                  if key in system.metadata}},
     )

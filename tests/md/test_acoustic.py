@@ -155,7 +155,7 @@ def test_cubic_pack_static_moduli_match_the_contact_chain():
 def test_secant_normal_stiffness_is_the_force_over_the_overlap():
     """``normal_stiffness="secant"`` (the source's eq. 4 with eq. 1's kappa_n): on the simple
     cubic pack M = F_n(xi) / (xi d), the Hertz force over the overlap (md.contact.hertz_force,
-    the force law the pack was compacted with), and the shear modulus is unchanged."""
+    the force law of the settling and compaction stages), and the shear modulus is unchanged."""
     from md.contact import hertz_force
 
     R, xi = 1e-4, 1e-7
@@ -188,6 +188,7 @@ def test_secant_scales_the_per_cell_interface_only(cemented_cubic, interface, fa
     np.testing.assert_allclose(secant.bond_kn[~gc], 2.0 / 3.0 * tangent.bond_kn[~gc],
                                rtol=1e-12)
     np.testing.assert_array_equal(secant.bond_kt, tangent.bond_kt)
+    assert secant.metadata["normal_stiffness"] == "secant"
     with pytest.raises(ValueError, match="normal_stiffness"):
         acoustic_system(pack, normal_stiffness="chord")
 
@@ -196,6 +197,7 @@ def test_cubic_pack_pulse_velocity_near_the_long_wave_limit():
     pack, d = cubic_pack((3, 3, 48))
     system = acoustic_system(pack, slab_thickness=4 * d)
     ds = pulse_test(system)
+    assert ds.attrs["normal_stiffness"] == "tangent" and ds.attrs["interface"] == "facet"
     ratio = float(ds.velocity) / float(ds.velocity_static)
     assert 0.9 < ratio <= 1.0 + float(ds.velocity_error) / float(ds.velocity_static)
 
