@@ -49,7 +49,8 @@ Output: ``benchmarks/results/md_throughput.{csv,nc}``. Run: ``python benchmarks/
 [--steps 2000] [--lammps-python PATH]``
 """
 
-from _common import RESULTS, environment_attrs, result_path, write_csv, write_netcdf
+from _common import (RESULTS, environment_attrs, md_source_attrs, result_path, write_csv,
+                     write_netcdf)
 
 import argparse  # noqa: E402
 import time  # noqa: E402
@@ -59,7 +60,7 @@ import pandas as pd  # noqa: E402
 import xarray as xr  # noqa: E402
 from numba import njit  # noqa: E402
 
-from md._kernels_contact import accumulate_forces  # noqa: E402
+from md._kernels_contact import accumulate_forces, pair_damping  # noqa: E402
 from md._kernels_integrate import kick, kick_drift  # noqa: E402
 from md._kernels_neighbors import moved_beyond  # noqa: E402
 
@@ -128,16 +129,17 @@ def contacts_of(x, r, box):
 
 # ----------------------------------------------------------------------------- rockcem loops
 @njit(cache=True)
-def verlet_checked(x, v, w, r, m, inertia, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
+def verlet_checked(x, v, w, r, m, inertia, pairs, hist, box_l, E_f, G_f, damping, mu, dt,
                    n_steps, fixed, force, torque, x_ref, half_skin):
     """``n_steps`` of the velocity Verlet step of ``md._kernels_integrate.verlet_run`` (no
     gravity, floor or drag; ``force``, ``torque`` hold the forces of the current state and are
-    updated), with the displacement test of ``md.neighbors.needs_rebuild`` after every step.
-    Returns ``(steps done, rebuild due)``; stops after the step at which a rebuild is due."""
+    updated; ``damping`` the pairs' damping prefactors, ``pair_damping``), with the displacement
+    test of ``md.neighbors.needs_rebuild`` after every step. Returns ``(steps done, rebuild
+    due)``; stops after the step at which a rebuild is due."""
     for step in range(n_steps):
         kick_drift(x, v, w, m, inertia, force, torque, dt, 0.0, fixed, True)
-        accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
-                          force, torque)
+        accumulate_forces(x, v, w, r, pairs, hist, box_l, E_f, G_f, damping, mu, dt, force,
+                          torque)
         kick(v, w, m, inertia, force, torque, dt, 0.0, 0.0, fixed, True)
         if moved_beyond(x, x_ref, box_l[0], box_l[1], half_skin):
             return step + 1, True
@@ -173,19 +175,21 @@ def run_checked(s, dt, steps, v_ref):
     x, v, w, hist = s.fresh()
     nl = s.nl0
     force, torque = np.zeros_like(x), np.zeros_like(x)
-    accumulate_forces(x, v, w, s.r, s.m, nl.pairs, hist, s.lx, s.mat.E_f, s.mat.G_f, s.beta,
-                      v_ref, s.mat.friction, dt, force, torque)
+    damping = pair_damping(s.r, s.m, nl.pairs, s.mat.E_f, s.beta, v_ref)
+    accumulate_forces(x, v, w, s.r, nl.pairs, hist, s.lx, s.mat.E_f, s.mat.G_f, damping,
+                      s.mat.friction, dt, force, torque)
     done = rebuilds = 0
     t0 = time.perf_counter()
     while done < steps:
         k, due = verlet_checked(x, v, w, s.r, s.m, s.inertia, nl.pairs, hist, s.lx, s.mat.E_f,
-                                s.mat.G_f, s.beta, v_ref, s.mat.friction, dt, steps - done,
+                                s.mat.G_f, damping, s.mat.friction, dt, steps - done,
                                 s.frozen, force, torque, nl.reference_positions, 0.5 * nl.skin)
         done += k
         if due:
             new = build_neighbors(x, s.r, s.box, s.skin)
             hist = remap_history(nl.pairs, hist, new.pairs, s.r.size)
             nl = new
+            damping = pair_damping(s.r, s.m, nl.pairs, s.mat.E_f, s.beta, v_ref)
             rebuilds += 1
     return time.perf_counter() - t0, rebuilds, x
 
@@ -418,7 +422,8 @@ def main(argv=None):
         tile_compact_wall_s=float(meta.get("compact_wall_s", np.nan)),
         strain_step=STRAIN_STEP, repeat=REPEAT, per_size_json=json.dumps(notes),
         load_average_1_5_15min_start=" ".join(f"{a:.2f}" for a in load_start),
-        load_average_1_5_15min_end=" ".join(f"{a:.2f}" for a in os.getloadavg()))
+        load_average_1_5_15min_end=" ".join(f"{a:.2f}" for a in os.getloadavg()),
+        **md_source_attrs())
     write_csv(table, result_path("md_throughput", "csv"), attrs)
     ds = xr.Dataset.from_dataframe(table)
     ds.attrs.update(attrs)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["pair_force", "accumulate_forces", "branch_vector"]
+__all__ = ["pair_force", "pair_force_damped", "damping_constant", "pair_damping",
+           "accumulate_forces", "branch_vector"]
 
 
 @njit(cache=True)
@@ -18,6 +19,16 @@ def branch_vector(x, i, j, lx, ly):
     return dx, dy, x[j, 2] - x[i, 2]
 
 
+@njit(cache=True, inline="always")
+def damping_constant(R_f, m_f, E_f, beta_c, v_ref):
+    """Prefactor ``c`` of the normal damping force :math:`c\\sqrt{\\xi}\\,\\dot\\xi` of a pair:
+    :math:`c = \\beta m_f^{2/5} v_{ref}^{-1/5} k^{3/5}` with :math:`k = \\tfrac43 E_f\\sqrt{R_f}`
+    (restitution :math:`e(\\beta)` at the impact speed ``v_ref``; :mod:`md.contact`). It depends
+    on the pair only, so a fixed pair list computes it once (:func:`pair_damping`)."""
+    k_hertz = 4.0 / 3.0 * E_f * np.sqrt(R_f)
+    return beta_c * m_f ** 0.4 * v_ref ** -0.2 * k_hertz ** 0.6
+
+
 @njit(cache=True)
 def pair_force(xi_n, nx, ny, nz, vrx, vry, vrz, zx, zy, zz, R_f, m_f, E_f, G_f, beta_c, v_ref,
                mu, dt):
@@ -26,13 +37,18 @@ def pair_force(xi_n, nx, ny, nz, vrx, vry, vrz, zx, zy, zz, R_f, m_f, E_f, G_f, 
     ``n = (nx, ny, nz)`` is the unit vector from i to j, ``xi_n > 0`` the overlap, ``vr`` the
     relative velocity of the contact point (j minus i), ``z`` the tangential spring elongation
     (history). Returns ``(fx, fy, fz, zx, zy, zz, fn)`` with ``f`` the force on j (minus on i) and
-    ``fn >= 0`` the normal force magnitude.
+    ``fn >= 0`` the normal force magnitude. :func:`pair_force_damped` with the pair's
+    :func:`damping_constant`.
     """
+    return pair_force_damped(xi_n, nx, ny, nz, vrx, vry, vrz, zx, zy, zz, R_f,
+                             damping_constant(R_f, m_f, E_f, beta_c, v_ref), E_f, G_f, mu, dt)
+
+
+@njit(cache=True)
+def pair_force_damped(xi_n, nx, ny, nz, vrx, vry, vrz, zx, zy, zz, R_f, c, E_f, G_f, mu, dt):
+    """:func:`pair_force` given the pair's damping prefactor ``c`` (:func:`damping_constant`)."""
     root = np.sqrt(xi_n * R_f)
-    k_hertz = 4.0 / 3.0 * E_f * np.sqrt(R_f)
     kappa_n = 4.0 / 3.0 * E_f * root                       # F_el = kappa_n * xi
-    # Damping c * sqrt(xi) * xi_dot with c = beta m^(2/5) v_ref^(-1/5) k^(3/5): restitution e(beta)
-    c = beta_c * m_f ** 0.4 * v_ref ** -0.2 * k_hertz ** 0.6
     v_n = vrx * nx + vry * ny + vrz * nz                   # > 0: separating
     xi_dot = -v_n
     fn = kappa_n * xi_n + c * np.sqrt(xi_n) * xi_dot
@@ -68,12 +84,27 @@ def pair_force(xi_n, nx, ny, nz, vrx, vry, vrz, zx, zy, zz, R_f, m_f, E_f, G_f, 
 
 
 @njit(cache=True)
-def accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
-                      force, torque):
+def pair_damping(r, m, pairs, E_f, beta_c, v_ref):
+    """:func:`damping_constant` of every pair of a pair list (radii ``r``, masses ``m``)."""
+    c = np.empty(pairs.shape[0])
+    for p in range(pairs.shape[0]):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        R_f = r[i] * r[j] / (r[i] + r[j])
+        m_f = m[i] * m[j] / (m[i] + m[j])
+        c[p] = damping_constant(R_f, m_f, E_f, beta_c, v_ref)
+    return c
+
+
+@njit(cache=True)
+def accumulate_forces(x, v, w, r, pairs, hist, box_l, E_f, G_f, damping, mu, dt, force,
+                      torque):
     """Forces and torques of all contacts of a pair list (periodic in x and y).
 
     ``pairs`` (M, 2) int32, ``hist`` (M, 3) tangential histories (updated in place; zeroed for
-    pairs not in contact). ``force``, ``torque`` (N, 3) are overwritten.
+    pairs not in contact), ``damping`` (M,) the pairs' damping prefactors
+    (:func:`pair_damping`, computed once per list: the three powers per contact and step were
+    half the cost of this loop). ``force``, ``torque`` (N, 3) are overwritten.
     """
     force[:, :] = 0.0
     torque[:, :] = 0.0
@@ -101,10 +132,9 @@ def accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref
         vry = v[j, 1] - v[i, 1] - (az * nx - ax * nz)
         vrz = v[j, 2] - v[i, 2] - (ax * ny - ay * nx)
         R_f = r[i] * r[j] / (r[i] + r[j])
-        m_f = m[i] * m[j] / (m[i] + m[j])
-        fx, fy, fz, zx, zy, zz, fn = pair_force(xi_n, nx, ny, nz, vrx, vry, vrz, hist[p, 0],
-                                                hist[p, 1], hist[p, 2], R_f, m_f, E_f, G_f,
-                                                beta_c, v_ref, mu, dt)
+        fx, fy, fz, zx, zy, zz, fn = pair_force_damped(xi_n, nx, ny, nz, vrx, vry, vrz,
+                                                       hist[p, 0], hist[p, 1], hist[p, 2], R_f,
+                                                       damping[p], E_f, G_f, mu, dt)
         hist[p, 0] = zx
         hist[p, 1] = zy
         hist[p, 2] = zz

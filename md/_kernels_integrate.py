@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._kernels_contact import accumulate_forces, branch_vector, pair_force
+from ._kernels_contact import accumulate_forces, branch_vector, pair_damping, pair_force
 
 __all__ = ["verlet_run", "kick_drift", "kick", "elastic_energy", "floor_forces"]
 
@@ -106,8 +106,8 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
     inertia = np.empty(n)
     for i in range(n):
         inertia[i] = 0.4 * m[i] * r[i] * r[i]
-    accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt, force,
-                      torque)
+    damping = pair_damping(r, m, pairs, E_f, beta_c, v_ref)     # the list is fixed in this call
+    accumulate_forces(x, v, w, r, pairs, hist, box_l, E_f, G_f, damping, mu, dt, force, torque)
     if use_floor:
         floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt, force,
                      torque)
@@ -122,8 +122,8 @@ def verlet_run(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, d
             energy[k] = e
             k += 1
         kick_drift(x, v, w, m, inertia, force, torque, dt, gravity_z, fixed, has_fixed)
-        accumulate_forces(x, v, w, r, m, pairs, hist, box_l, E_f, G_f, beta_c, v_ref, mu, dt,
-                          force, torque)
+        accumulate_forces(x, v, w, r, pairs, hist, box_l, E_f, G_f, damping, mu, dt, force,
+                          torque)
         if use_floor:
             floor_forces(x, v, w, r, m, z_floor, wall_hist, E_f, G_f, beta_c, v_ref, mu, dt,
                          force, torque)

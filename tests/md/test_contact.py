@@ -52,6 +52,53 @@ def test_kernel_matches_python_twin(rng):
         assert out[6] == pytest.approx(ref_fn, rel=1e-12)
 
 
+def test_force_loop_matches_the_python_twin_pair_by_pair(rng):
+    """``accumulate_forces`` with the per-pair damping of ``pair_damping`` (computed once per
+    list) equals the plain-Python twin summed over the pairs: forces (j gets f, i gets -f) and
+    torques -r (n x f_t) on both grains, with spins in the contact-point velocity."""
+    from md._kernels_contact import accumulate_forces, pair_damping
+
+    beta, v_ref, dt = damping_parameter(QUARTZ.restitution), 0.1, 1e-8
+    n_grains = 12
+    r = rng.uniform(1.8e-4, 2.0e-4, n_grains)
+    x = rng.uniform(0.0, 6e-4, (n_grains, 3))                  # a dense clump: many overlaps
+    v = rng.normal(scale=0.05, size=(n_grains, 3))
+    w = rng.normal(scale=50.0, size=(n_grains, 3))
+    m = 4 / 3 * np.pi * r**3 * QUARTZ.density
+    pairs = np.array([(i, j) for i in range(n_grains) for j in range(i + 1, n_grains)], np.int32)
+    hist = rng.normal(scale=1e-8, size=(len(pairs), 3))
+    box_l = np.array([1.0, 1.0])                                # wide: no periodic images
+    damping = pair_damping(r, m, pairs, QUARTZ.E_f, beta, v_ref)
+    force, torque = np.zeros((n_grains, 3)), np.zeros((n_grains, 3))
+    new_hist = hist.copy()
+    accumulate_forces(x, v, w, r, pairs, new_hist, box_l, QUARTZ.E_f, QUARTZ.G_f, damping,
+                      QUARTZ.friction, dt, force, torque)
+    f_ref, t_ref, touching = np.zeros_like(force), np.zeros_like(torque), 0
+    for p, (i, j) in enumerate(pairs):
+        d = x[j] - x[i]
+        xi = r[i] + r[j] - np.linalg.norm(d)
+        R_f, m_f = r[i] * r[j] / (r[i] + r[j]), m[i] * m[j] / (m[i] + m[j])
+        k = 4 / 3 * QUARTZ.E_f * np.sqrt(R_f)
+        assert damping[p] == pytest.approx(beta * m_f**0.4 * v_ref**-0.2 * k**0.6, rel=1e-14)
+        if xi <= 0:
+            assert np.all(new_hist[p] == 0.0)
+            continue
+        touching += 1
+        n = d / np.linalg.norm(d)
+        vr = v[j] - v[i] - np.cross(r[i] * w[i] + r[j] * w[j], n)
+        f, z, fn = pair_force_reference(xi, n, vr, hist[p], R_f, m_f, QUARTZ, v_ref, dt)
+        np.testing.assert_allclose(new_hist[p], z, rtol=1e-12, atol=1e-20)
+        f_ref[j] += f
+        f_ref[i] -= f
+        c = np.cross(n, f - fn * n)
+        t_ref[j] -= r[j] * c
+        t_ref[i] -= r[i] * c
+    assert touching >= 10
+    scale = np.abs(f_ref).max()
+    np.testing.assert_allclose(force, f_ref, rtol=1e-12, atol=1e-12 * scale)
+    np.testing.assert_allclose(torque, t_ref, rtol=1e-12, atol=1e-12 * scale * r.max())
+
+
 def head_on(material, v0, steps_per_contact=50, v_ref=None):
     """Two equal spheres approaching head-on; returns (restitution, contact time)."""
     x = np.array([[0.0, 0, 0], [2 * R + 1e-9, 0, 0]])
