@@ -9,9 +9,10 @@ pack is settled first in each child so that compilation stays out of the clock. 
 time of each stage (best of the repeats), steps, and a SHA-256 of the final positions, so that
 a change meant to be a pure speed-up is seen to give the same pack to the bit.
 
-Output: ``results/md_engine_versions.csv`` and a table on stdout. Run:
-``python benchmarks/md_engine_versions.py [--rev HEAD] [--size 4 4 12] [--repeat 3]``
-(about 5 minutes on one core; the machine should be otherwise idle).
+Output: ``results/md_engine_versions[_<tag>].csv`` and a table on stdout. Run:
+``python benchmarks/md_engine_versions.py [--rev HEAD] [--size 4 4 12] [--repeat 3] [--tag T]``
+(about 5 minutes on one core; the machine should be otherwise idle). The source's full sample:
+``--size 8 8 32 --stress 30 --repeat 1 --tag full`` (about 45 minutes).
 """
 
 from __future__ import annotations
@@ -62,6 +63,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--stress", type=float, default=10.0, help="compaction sigma_zz, MPa")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--tag", default="", help="result file tag")
     args = ap.parse_args(argv)
     if args.repeat < 1:
         ap.error("--repeat must be >= 1")
@@ -101,7 +103,7 @@ def main(argv=None):
         size=" ".join(f"{s:g}" for s in args.size), seed=args.seed,
         compaction_stress_MPa=args.stress, repeat=args.repeat, identical_positions=int(same),
         **_common.md_source_attrs())
-    _common.write_csv(best.reset_index(), _common.result_path(NAME, "csv"), attrs)
+    _common.write_csv(best.reset_index(), _common.result_path(NAME, "csv", args.tag), attrs)
 
 
 if __name__ == "__main__":

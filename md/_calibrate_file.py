@@ -37,6 +37,7 @@ def write_calibration(fit, path, *, name=None, description="", **selection) -> P
     -------
     Path
     """
+    from rockcem.calibrate import IDENTIFIABILITY_RULE
     from rockcem.calibrate import write_calibration as write
 
     if "calibration_model" not in fit.attrs or "value" not in fit:
@@ -78,9 +79,7 @@ def write_calibration(fit, path, *, name=None, description="", **selection) -> P
     identifiability = None
     if ident is not None:
         identifiability = {
-            "rule": "standard error infinite, wider than the bounds or than the value, or "
-                    "|correlation| > 0.999 (linearised at the solution; "
-                    "rockcem.calibrate.unidentifiable)",
+            "rule": IDENTIFIABILITY_RULE,
             "free": ident["free"], "unidentifiable": ident["unidentifiable"],
             "held": list(ident["held"]), "reason": ident["reason"],
             **{f"first_fit_{k}": v for k, v in ident["values"].items()},

@@ -10,6 +10,10 @@ import numpy as np
 
 #: Correlation beyond which two fitted parameters are reported as not separately determined.
 CORRELATION_LIMIT = 0.999
+#: The rule of :func:`unidentifiable` in words, as calibration files record it.
+IDENTIFIABILITY_RULE = (f"standard error infinite, wider than the bounds or than the value, or "
+                        f"|correlation| > {CORRELATION_LIMIT:g} (linearised at the solution; "
+                        f"rockcem.calibrate.unidentifiable)")
 
 
 def correlation(result) -> np.ndarray:

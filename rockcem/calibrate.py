@@ -26,7 +26,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
-from ._identifiability import CORRELATION_LIMIT, correlation, unidentifiable
+from ._identifiability import (CORRELATION_LIMIT, IDENTIFIABILITY_RULE, correlation,
+                               unidentifiable)
 from ._toml import toml_value
 from .validation import as_array, broadcast, check_positive, check_range
 from .elastic import velocities
@@ -34,7 +35,7 @@ from .granular import contact_cement
 from .materials import Mineral
 
 __all__ = ["FitResult", "fit_parameters", "fit_contact_cement", "correlation", "unidentifiable",
-           "CORRELATION_LIMIT", "CALIBRATION_FORMAT",
+           "CORRELATION_LIMIT", "IDENTIFIABILITY_RULE", "CALIBRATION_FORMAT",
            "CALIBRATION_MODELS", "write_calibration", "load_calibration", "shipped_calibrations",
            "apply_scene_calibration"]
 
