@@ -39,7 +39,7 @@ RESULTS = Path(__file__).resolve().parent / "results"
 
 __all__ = ["ROOT", "RESULTS", "result_path", "best_of", "environment_attrs", "sandstone_profile",
            "write_csv", "write_netcdf", "save_figure", "relative_difference", "markdown",
-           "md_source_attrs"]
+           "md_source_attrs", "cct_vp"]
 
 
 # ----------------------------------------------------------------------------- timing
@@ -344,6 +344,24 @@ def md_source_attrs():
     dirty = [line[3:] for line in out.splitlines() if line]
     return {"md_path": str(pkg), "md_source_sha256": digest.hexdigest(),
             "git_uncommitted_md_files": " ".join(dirty) or "none"}
+
+def cct_vp(porosity, coordination, cement, saturation, scheme, *, stiffness="fit"):
+    """P velocity (km/s) of contact cement theory (``rockcem.granular.contact_cement``, scheme 1:
+    cement at the contacts, 2: as a layer on the grains) for quartz of García & Medina's Table I
+    cemented by ``cement`` (an ``md.CementMaterial``) filling ``saturation`` (array-like) of the
+    pore space of a pack of ``porosity`` and ``coordination``; density of grains and cement."""
+    from md.contact import QUARTZ
+    from rockcem.granular import contact_cement
+
+    G0, K0 = QUARTZ.shear_modulus / 1e9, QUARTZ.bulk_modulus / 1e9
+    Gc = cement.shear_modulus / 1e9
+    Kc = cement.p_modulus / 1e9 - 4.0 / 3.0 * Gc
+    phi = porosity * (1.0 - np.asarray(saturation, dtype=float))
+    m = contact_cement(K0, G0, Kc, Gc, phi, porosity, coordination, scheme=scheme,
+                       stiffness=stiffness)
+    rho = ((1.0 - porosity) * QUARTZ.density + (porosity - phi) * cement.density) / 1e3
+    return np.sqrt((m.K + 4.0 / 3.0 * m.G) / rho)
+
 
 def markdown(frame, columns):
     """A markdown table of ``columns`` (name -> (header, format)) of ``frame``."""

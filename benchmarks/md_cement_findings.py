@@ -24,7 +24,7 @@ Usage: ``python benchmarks/md_cement_findings.py [--scene NAME] [--rerun]``. Wri
 
 from __future__ import annotations
 
-import _common  # noqa: F401  (first: threads, sys.path)
+import _common  # (first: threads, sys.path)
 
 import argparse
 import json
@@ -37,19 +37,11 @@ from _common import (RESULTS, environment_attrs, result_path, save_figure, write
 def theory(ds, sample, cement, scheme):
     """CCT Vp (km/s) of the sample at the scene's saturations (quartz grains of Table I)."""
     from md.cement import HARD_CEMENT, SOFT_CEMENT
-    from md.contact import QUARTZ
-    from rockcem.granular import contact_cement
 
     c = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}[cement]
-    G0, K0 = QUARTZ.shear_modulus / 1e9, QUARTZ.bulk_modulus / 1e9
-    Gc = c.shear_modulus / 1e9
-    Kc = c.p_modulus / 1e9 - 4 / 3 * Gc
-    phi0 = float(ds.porosity_uncemented.sel(sample=sample))
-    n = float(ds.coordination_number.sel(sample=sample))
-    phi = phi0 * (1 - ds.saturation.values)
-    m = contact_cement(K0, G0, Kc, Gc, phi, phi0, n, scheme=scheme)
-    rho = (1 - phi0) * 2.65 + (phi0 - phi) * c.density / 1e3
-    return np.sqrt((m.K + 4 / 3 * m.G) / rho)
+    return _common.cct_vp(float(ds.porosity_uncemented.sel(sample=sample)),
+                          float(ds.coordination_number.sel(sample=sample)), c,
+                          ds.saturation.values, scheme)
 
 
 #: Vp(S_c = 0.1) / Vp(0) of contact cement in the source (Sect. IV): (sample, cement) -> ratio.

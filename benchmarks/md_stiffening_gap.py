@@ -33,9 +33,10 @@ measure is the static long-wave P velocity of the linearised sample (``md.static
 S_c = 0 and ``--saturation``, and their ratio; with ``--pulse`` also the pulse test's Vp and its
 eq. 11 error. The pulse lies below the static velocity: by 2-17 % on the 6 x 6 x 16 pack, whose
 short length disperses the pulse (more in the cemented samples, so the pulse ratios scatter
-more than the static ones), and by 2-5 % on the full sample. The CCT velocities (Dvorkin & Nur schemes 1 and 2, the
-solved contact problem, at the pack's porosity and coordination) are printed beside them: the
-source places its compacted sample between the two (Sect. IV).
+more than the static ones), and by 2-5 % on the full sample. The CCT velocities (Dvorkin & Nur
+schemes 1 and 2, the solved contact problem, ``_common.cct_vp``, at the pack's porosity and
+coordination) are printed beside them: the source places its compacted sample between the two
+(Sect. IV).
 
 Packs: ``--size`` largest diameters (default 6 x 6 x 16, 768 grains), seed ``--seed``,
 compacted to ``--stress`` MPa of sigma_zz (the first strain increment past it: 30-34 MPa), made
@@ -63,47 +64,26 @@ NAME = "md_stiffening_gap"
 #: Settling options of each pack (the rest: size, seed, radii, fall stiffness factor 1e-3).
 PACKS = {"sequential": dict(protocol="sequential"), "lattice": dict(protocol="lattice"),
          "drag500": dict(protocol="sequential", drag=500.0, max_time=30.0)}
-#: (label, pack, Omega key, interface, normal stiffness, lattice rule), cumulative.
-LADDER = (
-    ("engine", "sequential", "engine", "facet", "tangent", "waves"),
-    ("omega", "sequential", "source", "facet", "tangent", "waves"),
-    ("paper_interface", "sequential", "source", "paper", "tangent", "waves"),
-    ("secant", "sequential", "source", "paper", "secant", "waves"),
-    ("paper_lattice", "sequential", "source", "paper", "secant", "paper"),
-    ("loose_pack", "lattice", "source", "paper", "secant", "paper"),
-    ("source_pack", "drag500", "source", "paper", "secant", "paper"),
-)
-#: Each of the source's choices alone, from the engine's configuration.
-SINGLE = (
-    ("only_omega", "sequential", "source", "facet", "tangent", "waves"),
-    ("only_paper_interface", "sequential", "engine", "paper", "tangent", "waves"),
-    ("only_secant", "sequential", "engine", "facet", "secant", "waves"),
-    ("only_loose_pack", "lattice", "engine", "facet", "tangent", "waves"),
-    ("only_source_pack", "drag500", "engine", "facet", "tangent", "waves"),
-)
+#: The engine's own configuration (Omega "engine" is --omega-engine, "source" --omega-source).
+ENGINE = {"pack": "sequential", "omega": "engine", "interface": "facet",
+          "normal_stiffness": "tangent", "lattice_rule": "waves"}
+#: The source's choices, in the order the ladder switches them on.
+SWITCHES = {"omega": {"omega": "source"}, "paper_interface": {"interface": "paper"},
+            "secant": {"normal_stiffness": "secant"}, "paper_lattice": {"lattice_rule": "paper"},
+            "loose_pack": {"pack": "lattice"}, "source_pack": {"pack": "drag500"}}
+#: The switches also tried alone, from the engine's configuration (rows ``only_<switch>``).
+ALONE = ("omega", "paper_interface", "secant", "loose_pack", "source_pack")
 
 
-def cct_velocities(porosity, coordination, cement, saturation):
-    """Vp (m/s) of CCT schemes 1 and 2 (rockcem.contact_cement with the solved contact problem,
-    ``stiffness="integral"``, the better choice for the soft cement) for quartz of Table I and a
-    cement of Table II filling ``saturation`` of the pore space."""
-    from rockcem.granular import contact_cement
-
-    import md
-
-    q = md.QUARTZ
-    K0 = q.bulk_modulus / 1e9
-    G0 = q.shear_modulus / 1e9
-    Gc = cement.shear_modulus / 1e9
-    Kc = cement.p_modulus / 1e9 - 4.0 / 3.0 * Gc
-    phi = porosity * (1.0 - saturation)
-    rho = ((1.0 - porosity) * q.density + porosity * saturation * cement.density) / 1e3
-    out = []
-    for scheme in (1, 2):
-        m = contact_cement(K0, G0, Kc, Gc, phi, porosity, coordination, scheme=scheme,
-                           stiffness="integral")
-        out.append(1e3 * float(np.sqrt((m.K + 4.0 / 3.0 * m.G) / rho)))
-    return out
+def configurations():
+    """``(label, configuration)``: the engine's, each switch on top of the ones before (the
+    ladder; ``source_pack`` takes the place of ``loose_pack``), and the switches of
+    :data:`ALONE` on their own."""
+    out, cumulative = [("engine", ENGINE)], dict(ENGINE)
+    for name, change in SWITCHES.items():
+        cumulative = {**cumulative, **change}
+        out.append((name, cumulative))
+    return out + [(f"only_{name}", {**ENGINE, **SWITCHES[name]}) for name in ALONE]
 
 
 def _static_and_pulse(system, pulse):
@@ -138,7 +118,7 @@ def main(argv=None):
                     choices=["contact", "coating", "pore_body", "pendular"])
     ap.add_argument("--cements", nargs="+", default=["hard", "soft"], choices=["hard", "soft"])
     ap.add_argument("--configs", nargs="+", default=None,
-                    choices=[c[0] for c in LADDER + SINGLE],
+                    choices=[label for label, _ in configurations()],
                     help="labels to run (default: the whole ladder and the single switches)")
     ap.add_argument("--pulse", action="store_true", help="also the pulse test (eqs. 10-11)")
     ap.add_argument("--restitution", type=float, default=None,
@@ -148,11 +128,12 @@ def main(argv=None):
     _common.announce_source()
     cements = {"hard": md.HARD_CEMENT, "soft": md.SOFT_CEMENT}
     omegas = {"engine": args.omega_engine, "source": args.omega_source}
-    configs = [c for c in LADDER + SINGLE if args.configs is None or c[0] in args.configs]
+    configs = [(label, c) for label, c in configurations()
+               if args.configs is None or label in args.configs]
     size_tag = "x".join(f"{s:g}" for s in args.size)
 
     packs, pack_rows = {}, {}
-    for protocol in sorted({c[1] for c in configs}):
+    for protocol in sorted({c["pack"] for _, c in configs}):
         folder = _common.RESULTS / f"{NAME}_work" / f"{protocol}_{size_tag}_seed{args.seed}"
         packs[protocol] = md.prepare_pack(
             folder,
@@ -172,9 +153,13 @@ def main(argv=None):
 
     lattices, growths, uncemented = {}, {}, {}
     rows = []
-    for label, protocol, okey, interface, normal, lrule in configs:
+    measured = {}                  # a configuration met twice (only_omega = omega) runs once
+    theory = {}
+    for label, config in configs:
+        protocol, normal = config["pack"], config["normal_stiffness"]
+        interface, lrule = config["interface"], config["lattice_rule"]
         pack, pr = packs[protocol], pack_rows[protocol]
-        omega = omegas[okey]
+        omega = omegas[config["omega"]]
         if (protocol, omega) not in lattices:
             lattices[protocol, omega] = md.cement_lattice(pack, omega)
         lat = lattices[protocol, omega]
@@ -189,11 +174,17 @@ def main(argv=None):
             cemented = growths[protocol, omega, scheme]
             for cname in args.cements:
                 cement = cements[cname]
-                got = _static_and_pulse(md.acoustic_system(
-                    pack, lat, cemented, cement, rule=lrule, interface=interface,
-                    normal_stiffness=normal, restitution=args.restitution), args.pulse)
-                cct1, cct2 = cct_velocities(pr["porosity"], pr["coordination"], cement,
-                                            args.saturation)
+                key = (protocol, omega, interface, normal, lrule, scheme, cname)
+                if key not in measured:
+                    measured[key] = _static_and_pulse(md.acoustic_system(
+                        pack, lat, cemented, cement, rule=lrule, interface=interface,
+                        normal_stiffness=normal, restitution=args.restitution), args.pulse)
+                got = measured[key]
+                if (protocol, cname) not in theory:     # depends on the pack and cement only
+                    theory[protocol, cname] = [1e3 * float(_common.cct_vp(
+                        pr["porosity"], pr["coordination"], cement, args.saturation, k,
+                        stiffness="integral")) for k in (1, 2)]
+                cct1, cct2 = theory[protocol, cname]
                 rows.append(dict(
                     config=label, scheme=scheme, cement=cname, pack=protocol, omega=omega,
                     interface=interface, normal_stiffness=normal, lattice_rule=lrule, **pr,

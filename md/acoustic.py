@@ -415,9 +415,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     partner = (bond_partners(ci, centres[cj], x, r, pack.box) if interface == "facet"
                else None)
     kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table, n_g, cw, mat, cement, interface,
-                                       partner)
-    if interface == "paper":         # the source's per-cell bond is eq. 4 too
-        kn_gc = kn_gc * (normal_factor / 2.0)
+                                       partner, paper_normal_factor=normal_factor)
     gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)

@@ -7,7 +7,9 @@ Three rules, chosen by ``interface`` in :func:`md.acoustic_system`:
     every cemented cell whose cube meets a grain is joined to it by eq. 4 with the mixed moduli
     :math:`E^* = [(1-\nu_g^2)/E_g + (1-\nu_c^2)/E_c]^{-1}`,
     :math:`G^* = [(2-\nu_g)/G_g + (2-\nu_c)/G_c]^{-1}` ([Johnson1985]_ eqs. 4.22 and 7.42) and a
-    contact of diameter :math:`c_w`: :math:`k_n = 2E^*(c_w/2)`, :math:`k_s = 8G^*(c_w/2)`.
+    contact of diameter :math:`c_w`: :math:`k_n = 2E^*(c_w/2)`, :math:`k_s = 8G^*(c_w/2)`
+    (:math:`k_n = \tfrac43 E^*(c_w/2)` with the source's secant reading of eq. 4,
+    ``normal_stiffness="secant"`` of :func:`md.acoustic_system`).
     An interface of area :math:`A` holds :math:`\approx A/c_w^2` such springs in parallel, so
     its stiffness grows like :math:`E^* A / c_w \propto \Omega`: as the lattice is refined the
     grains under the cement become rigid, and cemented moduli do not converge in
@@ -237,7 +239,8 @@ def interface_patches(bond_grain, bond_cell, table, first, bond_partner=None) ->
 
 
 def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first, cell_width,
-                        material, cement, interface="patch", bond_partner=None):
+                        material, cement, interface="patch", bond_partner=None,
+                        paper_normal_factor=2.0):
     """Normal and tangential stiffness of the grain–cement bonds.
 
     Parameters
@@ -259,6 +262,10 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
     bond_partner : ndarray of int, shape (m,), optional
         The neighbouring grain each bond's cell faces (:func:`bond_partners`); needed by
         ``"facet"``.
+    paper_normal_factor : float
+        ``"paper"`` only: :math:`k_n = f E^* (c_w/2)` with this :math:`f`, 2 for the tangent of
+        the Hertz force (default), 4/3 for the secant of the source's eq. 1
+        (``normal_stiffness`` of :func:`md.acoustic_system`).
 
     Returns
     -------
@@ -274,7 +281,8 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
         E_star = 1.0 / ((1 - nu_g**2) / material.young_modulus
                         + (1 - nu_c**2) / cement.young_modulus)
         G_star = 1.0 / ((2 - nu_g) / material.shear_modulus + (2 - nu_c) / cement.shear_modulus)
-        return np.full(m, 2.0 * E_star * 0.5 * cw), np.full(m, 8.0 * G_star * 0.5 * cw)
+        return (np.full(m, paper_normal_factor * E_star * 0.5 * cw),
+                np.full(m, 8.0 * G_star * 0.5 * cw))
     if interface == "facet" and bond_partner is None:
         raise ValueError("interface 'facet' needs bond_partner (md.interface.bond_partners)")
     area = interface_area(bond_normal, cw)

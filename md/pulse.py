@@ -24,6 +24,7 @@ __all__ = ["pulse_test"]
 #: Settings of md.acoustic_system copied into the pulse test's attributes.
 _LINEARISATION = ("lattice_rule", "interface", "normal_stiffness", "restitution")
 
+
 def _first_peak(signal, floor=0.0):
     """Index of the maximum of the first run of samples at or above half the global maximum
     (−1 if that maximum is not above ``floor`` or the run has not ended)."""
