@@ -43,7 +43,7 @@ import numpy as np
 from .cement import (HARD_CEMENT, LATTICE_OFFSETS, CementLattice, CementMaterial,
                      lattice_constants)
 from .interface import INTERFACES, bond_partners, interface_stiffness
-from .space import Box
+from .space import Box, minimum_image
 from .state import Pack
 
 __all__ = ["AcousticSystem", "acoustic_system", "cement_block", "static_modulus",
@@ -106,6 +106,14 @@ class AcousticSystem:
     slab_thickness : float
         Thickness of the detector slabs along z, m.
     metadata : dict
+    arm_i, arm_j : ndarray, optional
+        With rotations: distances from the centres of ``bond_i`` and ``bond_j`` to the
+        contact point of every contact bond, m (:mod:`md._kernels_rotation`); None without.
+    lattice_arm : ndarray, shape (9,), optional
+        With rotations: half the length of the lattice bonds of each stencil direction, m.
+    inertia : ndarray, shape (n,), optional
+        With rotations: moments of inertia, kg m² (:math:`\\tfrac25 mR^2` for a grain,
+        :math:`\\tfrac16 m c_w^2` for a cement cube).
     """
 
     positions: np.ndarray
@@ -125,11 +133,34 @@ class AcousticSystem:
     slab_thickness: float
     extent: tuple = (0.0, 0.0)
     metadata: dict = field(default_factory=dict)
+    arm_i: np.ndarray | None = None
+    arm_j: np.ndarray | None = None
+    lattice_arm: np.ndarray | None = None
+    inertia: np.ndarray | None = None
 
     @property
     def n_particles(self) -> int:
         """Grains plus cement particles."""
         return int(self.masses.shape[0])
+
+    @property
+    def rotations(self) -> bool:
+        """Whether the particles rotate (6 degrees of freedom each) or only translate (3)."""
+        return self.arm_i is not None
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom per particle: 6 with rotations, else 3."""
+        return 6 if self.rotations else 3
+
+    @property
+    def dof_masses(self) -> np.ndarray:
+        """Mass (kg) of every translation and moment of inertia (kg m²) of every rotation,
+        shape (n, dof)."""
+        m = np.repeat(self.masses[:, None], 3, axis=1)
+        if not self.rotations:
+            return m
+        return np.concatenate([m, np.repeat(self.inertia[:, None], 3, axis=1)], axis=1)
 
     def slabs(self):
         """Slab index of every particle and the number of slabs (the top slab takes the rest)."""
@@ -164,6 +195,11 @@ class AcousticSystem:
         return int(np.count_nonzero(self.lattice_neighbors >= 0))
 
     def _kernel_args(self):
+        if self.rotations:
+            return (self.bond_i, self.bond_j, self.bond_normal, self.bond_kn, self.bond_kt,
+                    self.bond_gn, self.bond_gt, self.arm_i, self.arm_j, self.lattice_neighbors,
+                    self.n_grains, _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt,
+                    self.lattice_arm)
         return (self.bond_i, self.bond_j, self.bond_normal, self.bond_kn, self.bond_kt,
                 self.bond_gn, self.bond_gt, self.lattice_neighbors, self.n_grains,
                 _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt)
@@ -186,15 +222,30 @@ class AcousticSystem:
                 self.lattice_kn, self.lattice_kt)
 
     def forces(self, u, v=None, *, parallel=False) -> np.ndarray:
-        """Bond forces :math:`-(K u + D v)` on every particle, shape (n, 3), N; ``parallel``
-        uses the multi-threaded gather kernels (numba threads)."""
+        """Bond forces :math:`-(K u + D v)` on every particle, shape (n, 3) — with rotations
+        (n, 6): forces (N), then moments (N m) — for displacements ``u`` (and rotations);
+        ``parallel`` uses the multi-threaded gather kernels (numba threads; translations
+        only)."""
         from ._kernels_acoustic import contact_forces, lattice_forces
 
-        u = np.ascontiguousarray(u, dtype=float).reshape(self.n_particles, 3)
+        u = np.ascontiguousarray(u, dtype=float).reshape(self.n_particles, self.dof)
         v = np.zeros_like(u) if v is None else \
-            np.ascontiguousarray(v, dtype=float).reshape(self.n_particles, 3)
+            np.ascontiguousarray(v, dtype=float).reshape(self.n_particles, self.dof)
         f = np.zeros_like(u)
         sz = np.zeros(0)
+        if self.rotations:
+            from ._kernels_rotation import contact_forces_rot, lattice_forces_rot
+
+            if parallel:
+                raise ValueError("the multi-threaded kernels move particles by translations "
+                                 "only; use parallel=False for a system with rotations")
+            contact_forces_rot(u, v, self.bond_i, self.bond_j, self.bond_normal, self.bond_kn,
+                               self.bond_kt, self.bond_gn, self.bond_gt, self.arm_i,
+                               self.arm_j, f, sz, False, 2)
+            lattice_forces_rot(u, self.lattice_neighbors, self.n_grains, _LATTICE_NORMALS,
+                               self.lattice_kn, self.lattice_kt, self.lattice_arm, f, sz,
+                               False, 2)
+            return f
         if parallel:
             from ._kernels_parallel import gather_forces
 
@@ -216,14 +267,26 @@ class AcousticSystem:
                 np.concatenate([self.bond_normal, _LATTICE_NORMALS[ld]]),
                 np.concatenate([kn, lattice_kn[ld]]), np.concatenate([kt, lattice_kt[ld]]))
 
+    def _arms(self):
+        """Contact-point arms of all bonds in :meth:`_bonds` order (rotations only)."""
+        ld = self._lattice_list()[2].astype(np.int64)
+        return (np.concatenate([self.arm_i, self.lattice_arm[ld]]),
+                np.concatenate([self.arm_j, self.lattice_arm[ld]]))
+
     def stiffness_diagonal(self) -> np.ndarray:
-        """Diagonal of :math:`K`, shape (n, 3), N/m (zero for a particle without bonds)."""
+        """Diagonal of :math:`K`, shape (n, dof): N/m, then N m/rad with rotations (zero
+        for a degree of freedom without stiffness)."""
         i, j, n, k_n, k_t = self._bonds(self.bond_kn, self.bond_kt, self.lattice_kn,
                                         self.lattice_kt)
         block_diag = (k_n - k_t)[:, None] * n**2 + k_t[:, None]
-        return np.stack([np.bincount(i, block_diag[:, a], self.n_particles)
-                         + np.bincount(j, block_diag[:, a], self.n_particles)
-                         for a in range(3)], axis=-1)
+        diag = [np.bincount(i, block_diag[:, a], self.n_particles)
+                + np.bincount(j, block_diag[:, a], self.n_particles) for a in range(3)]
+        if self.rotations:          # [n]x^T k [n]x = k_t (I - n n^T), times the arm squared
+            a_i, a_j = self._arms()
+            rot = k_t[:, None] * (1.0 - n**2)
+            diag += [np.bincount(i, a_i**2 * rot[:, a], self.n_particles)
+                     + np.bincount(j, a_j**2 * rot[:, a], self.n_particles) for a in range(3)]
+        return np.stack(diag, axis=-1)
 
     def _assemble(self, kn, kt, lattice_kn, lattice_kt):
         """Sparse matrix of bonds with contact constants ``kn, kt`` and per-direction lattice
@@ -233,6 +296,8 @@ class AcousticSystem:
         i, j, n, k_n, k_t = self._bonds(kn, kt, lattice_kn, lattice_kt)
         blocks = (k_n - k_t)[:, None, None] * n[:, :, None] * n[:, None, :] \
             + k_t[:, None, None] * np.eye(3)
+        if self.rotations:
+            return self._assemble_rotations(i, j, n, blocks)
         a = np.arange(3)
         rows_i = (3 * i[:, None, None] + a[None, :, None]).repeat(3, axis=2)
         cols_i = (3 * i[:, None, None] + a[None, None, :]).repeat(3, axis=1)
@@ -244,8 +309,31 @@ class AcousticSystem:
         size = 3 * self.n_particles
         return sp.csr_matrix((vals, (rows, cols)), shape=(size, size))
 
+    def _assemble_rotations(self, i, j, n, blocks):
+        """Sparse 6n x 6n matrix :math:`\\sum_b B_b^T k_b B_b` of bonds whose 3 x 3 constants
+        are ``blocks``, :math:`B_b` the map from ``(u_i, theta_i, u_j, theta_j)`` to the
+        relative displacement of the faces (:mod:`md._kernels_rotation`)."""
+        import scipy.sparse as sp
+
+        a_i, a_j = self._arms()
+        cross = np.zeros((n.shape[0], 3, 3))        # [n]x t = n x t
+        cross[:, 0, 1], cross[:, 0, 2] = -n[:, 2], n[:, 1]
+        cross[:, 1, 0], cross[:, 1, 2] = n[:, 2], -n[:, 0]
+        cross[:, 2, 0], cross[:, 2, 1] = -n[:, 1], n[:, 0]
+        eye = np.broadcast_to(np.eye(3), cross.shape)
+        B = np.concatenate([-eye, a_i[:, None, None] * cross, eye,
+                            a_j[:, None, None] * cross], axis=2)
+        Kb = np.einsum("mai,mab,mbj->mij", B, blocks, B)
+        dof = np.concatenate([6 * i[:, None] + np.arange(6), 6 * j[:, None] + np.arange(6)],
+                             axis=1)
+        size = 6 * self.n_particles
+        return sp.csr_matrix((Kb.ravel(), (np.repeat(dof, 12, axis=1).ravel(),
+                                           np.tile(dof, (1, 12)).ravel())),
+                             shape=(size, size))
+
     def stiffness_matrix(self):
-        """:math:`K` as a ``scipy.sparse`` CSR matrix (3 rows per particle: x, y, z), N/m."""
+        """:math:`K` as a ``scipy.sparse`` CSR matrix (``dof`` rows per particle: x, y, z, and
+        with rotations the rotations about x, y, z), N/m and N m/rad."""
         return self._assemble(self.bond_kn, self.bond_kt, self.lattice_kn, self.lattice_kt)
 
     def damping_matrix(self):
@@ -253,16 +341,24 @@ class AcousticSystem:
         return self._assemble(self.bond_gn, self.bond_gt, np.zeros(9), np.zeros(9))
 
     def mass_matrix(self):
-        """:math:`M` as a sparse diagonal matrix, kg."""
+        """:math:`M` as a sparse diagonal matrix, kg (and kg m² with rotations)."""
         import scipy.sparse as sp
 
-        return sp.diags(np.repeat(self.masses, 3)).tocsr()
+        return sp.diags(self.dof_masses.ravel()).tocsr()
 
     def max_frequency(self) -> float:
         """Gershgorin bound of the largest angular frequency :math:`\\omega_{max}` of
         :math:`M^{-1}K`, rad/s."""
         from ._kernels_acoustic import gershgorin_rows
 
+        if self.rotations:
+            from ._kernels_rotation import gershgorin_rows_rot
+
+            rows = gershgorin_rows_rot(
+                1.0 / np.sqrt(self.dof_masses), self.bond_i, self.bond_j, self.bond_normal,
+                self.bond_kn, self.bond_kt, self.arm_i, self.arm_j, self.lattice_neighbors, self.n_grains,
+                _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt, self.lattice_arm)
+            return float(np.sqrt(np.max(rows)))
         rows = gershgorin_rows(self.n_particles, self.bond_i, self.bond_j, self.bond_normal,
                                self.bond_kn, self.bond_kt, self.lattice_neighbors,
                                self.n_grains, _LATTICE_NORMALS, self.lattice_kn,
@@ -270,10 +366,10 @@ class AcousticSystem:
         return float(np.sqrt(np.max(rows / self.masses[:, None])))
 
 
-def _lattice_springs(cement, cell_width, rule):
+def _lattice_springs(cement, cell_width, rule, rotations=False):
     """Lattice constants and the per-direction normal and tangential stiffness of eq. 6:
     ``(Cn, C, m_c, Cn + C/|x|^2, C/|x|^2)``."""
-    Cn, C, m_c = lattice_constants(cement, cell_width, rule)
+    Cn, C, m_c = lattice_constants(cement, cell_width, rule, rotations=rotations)
     kt = C / (_LATTICE_LENGTH2 * cell_width**2)
     return Cn, C, m_c, Cn + kt, kt
 
@@ -309,12 +405,13 @@ def _contact_bonds_grains(pack: Pack, m, zeta, normal_factor=2.0):
     kn = normal_factor * mat.E_f * a
     kt = 8.0 * mat.G_f * a
     gn, gt = dashpots(kn, kt, m[p[:, 0]], m[p[:, 1]], zeta)
-    return p[:, 0], p[:, 1], d / dist[:, None], kn, kt, gn, gt
+    arm_i = (dist**2 + ri**2 - rj**2) / (2.0 * dist)   # the plane of the contact circle
+    return p[:, 0], p[:, 1], d / dist[:, None], kn, kt, gn, gt, arm_i, dist - arm_i
 
 
 def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=None,
                     cement: CementMaterial = HARD_CEMENT, *, rule="waves", interface="facet",
-                    normal_stiffness="tangent", restitution=None,
+                    normal_stiffness="tangent", rotations=True, restitution=None,
                     slab_thickness=None) -> AcousticSystem:
     """Linearise a (cemented) pack about its equilibrium for the pulse test.
 
@@ -342,6 +439,16 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         read literally, whose :math:`\\kappa_n` is eq. 1's :math:`\\tfrac43 E_f a` (the force
         over the overlap, two thirds of the tangent), kept to reproduce the source. The
         tangential stiffness is Mindlin's in both.
+    rotations : bool
+        ``True`` (default): every particle also rotates (moment of inertia
+        :math:`\\tfrac25 mR^2` for a grain, :math:`\\tfrac16 m_c c_w^2` for a cement cube); each
+        bond acts at its contact point — the plane of the contact circle of two grains, the
+        grain's surface for a grain–cement bond, the midpoint of a lattice bond
+        (:mod:`md._kernels_rotation`, lattice constants of
+        :func:`md.cement.lattice_constants` with ``rotations=True``) — so a rigid motion of
+        the sample costs nothing. ``False``: translations only, the source's eqs. 4–6, under
+        which a rigid rotation stretches every tangential spring and the shear stiffness of a
+        grain pack is far too high (dry Vp/Vs near 1).
     restitution : float, optional
         Restitution of the contact dashpots, default the pack material's (0.9).
     slab_thickness : float, optional
@@ -368,7 +475,8 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     zeta = damping_ratio(e)
     r = pack.radii
     m_grain = mat.density * 4.0 / 3.0 * np.pi * r**3
-    gi, gj, gnrm, gkn, gkt, ggn, ggt = _contact_bonds_grains(pack, m_grain, zeta, normal_factor)
+    gi, gj, gnrm, gkn, gkt, ggn, ggt, garm_i, garm_j = _contact_bonds_grains(pack, m_grain, zeta,
+                                                                           normal_factor)
     x = pack.positions.copy()
     x[:, 0] %= pack.box.lx
     x[:, 1] %= pack.box.ly
@@ -380,13 +488,16 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     meta = {"n_grain_contacts": int(gi.size), "n_cement": 0, "n_grain_cement": 0,
             "cement_vp": cement.vp, "cement_vs": cement.vs, "cement_density": cement.density,
             "lattice_rule": rule, "interface": interface, "normal_stiffness": normal_stiffness,
-            "restitution": e,
+            "rotations": bool(rotations), "restitution": e,
             "mean_radius": float(r.mean())}
+    inertia = 0.4 * m_grain * r**2
     if lattice is None or not np.any(cemented):
+        rot = ({"arm_i": garm_i, "arm_j": garm_j, "lattice_arm": np.zeros(9),
+                "inertia": inertia} if rotations else {})
         return AcousticSystem(
             x, m_grain, n_g, pack.box, gi.astype(np.int32), gj.astype(np.int32), gnrm, gkn, gkt,
             ggn, ggt, np.zeros((0, 9), np.int32), np.zeros(9), np.zeros(9),
-            thickness, extent, meta)
+            thickness, extent, meta, **rot)
     cemented = np.asarray(cemented, dtype=bool)
     if cemented.shape != lattice.index.shape:
         raise ValueError(f"cemented must have the lattice's {lattice.index.size} pore cells; "
@@ -395,7 +506,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     if min(nx, ny) < 3:
         raise ValueError("the cement lattice needs at least 3 cells across x and y")
     cw = lattice.cell_width
-    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, rule)
+    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, rule, rotations)
     cells = lattice.index[cemented].astype(np.int64)
     n_c = cells.size
     where = np.full(nx * ny * nz, -1, dtype=np.int32)
@@ -421,25 +532,33 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
     meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=n_lattice,
                 cell_width=cw, lattice_Cn=Cn, lattice_C=C)
+    rot = {}
+    if rotations:       # a grain-cement bond acts at the grain's surface
+        length = np.einsum("ij,ij->i", minimum_image(centres[cj] - x[ci], pack.box), cnrm)
+        rot = {"arm_i": np.concatenate([garm_i, r[ci]]),
+               "arm_j": np.concatenate([garm_j, length - r[ci]]),
+               "lattice_arm": 0.5 * cw * np.sqrt(_LATTICE_LENGTH2),
+               "inertia": np.concatenate([inertia, np.full(n_c, m_c * cw**2 / 6.0)])}
     return AcousticSystem(
         np.concatenate([x, centres]), np.concatenate([m_grain, np.full(n_c, m_c)]), n_g,
         pack.box, bond_i, bond_j, np.concatenate([gnrm, cnrm]),
         np.concatenate([gkn, kn_gc]), np.concatenate([gkt, kt_gc]),
         np.concatenate([ggn, gn_gc]), np.concatenate([ggt, gt_gc]),
-        table, lat_kn, lat_kt, thickness, extent, meta)
+        table, lat_kn, lat_kt, thickness, extent, meta, **rot)
 
 
 def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rule="waves",
-                 slab_thickness=None) -> AcousticSystem:
+                 rotations=True, slab_thickness=None) -> AcousticSystem:
     """A block of pure cement: every cell of an ``(nx, ny, nz)`` lattice holds a cement particle.
 
     Periodic in x and y, free ends in z. The homogeneous check of the lattice and of the pulse
     machinery: its P and S moduli are the cement's (:func:`md.cement.lattice_constants`).
+    ``rotations`` as in :func:`acoustic_system`.
     """
     nx, ny, nz = (int(s) for s in shape)
     if min(nx, ny) < 3 or nz < 2:
         raise ValueError(f"shape must have nx, ny >= 3 and nz >= 2 cells; got {shape}")
-    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cell_width, rule)
+    Cn, C, m_c, lat_kn, lat_kt = _lattice_springs(cement, cell_width, rule, rotations)
     cells = np.arange(nx * ny * nz, dtype=np.int64)
     table, _ = _lattice_table(cells, cells.astype(np.int32), (nx, ny, nz), 0)
     i, j, k = cells % nx, (cells // nx) % ny, cells // (nx * ny)
@@ -452,7 +571,9 @@ def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rul
         lat_kn, lat_kt, 4.0 * cw if slab_thickness is None else float(slab_thickness),
         (0.0, nz * cw),
         {"n_cement": int(cells.size), "cell_width": cw, "lattice_Cn": Cn, "lattice_C": C,
-         "lattice_rule": rule})
+         "lattice_rule": rule, "rotations": bool(rotations)},
+        **({"arm_i": e, "arm_j": e, "lattice_arm": 0.5 * cw * np.sqrt(_LATTICE_LENGTH2),
+            "inertia": np.full(cells.size, m_c * cw**2 / 6.0)} if rotations else {}))
 
 
 # The solves on the operator live in their own modules; their public names stay importable

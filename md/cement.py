@@ -88,7 +88,7 @@ HARD_CEMENT = CementMaterial(3000.0, 1800.0, 2650.0)
 SOFT_CEMENT = CementMaterial(1500.0, 900.0, 2650.0)
 
 
-def lattice_constants(cement: CementMaterial, cell_width, rule="waves"):
+def lattice_constants(cement: CementMaterial, cell_width, rule="waves", *, rotations=False):
     """Spring constants :math:`C_n`, :math:`C` and particle mass :math:`m_c` of the cement lattice.
 
     A cement particle interacts with its 18 nearest lattice neighbours by (García & Medina,
@@ -124,6 +124,19 @@ def lattice_constants(cement: CementMaterial, cell_width, rule="waves"):
     these constants make the cement 1 % fast in P and 3 % in S (Table II cements); kept to
     reproduce the paper.
 
+    With ``rotations=True`` every cement particle also rotates and the tangential term of
+    eq. 6 acts on the relative displacement of the bond's midpoint
+    (:mod:`md._kernels_rotation`), so a rigid rotation costs nothing. A uniform strain then
+    leaves every particle at the macroscopic rotation (the moments cancel on the
+    centrosymmetric stencil), and simple shear and S waves see the pure-shear modulus:
+
+    .. math:: \\rho_c V_p^2 = \\frac{3C_n}{c_w} + \\frac{3C}{c_w^3}, \\qquad
+              \\rho_c V_s^2 = \\frac{C_n}{c_w} + \\frac{3C}{2c_w^3},
+
+    whence ``rule="waves"`` gives :math:`C_n = \\rho_c(V_p^2 - 2V_s^2)c_w = \\lambda_c c_w`
+    and :math:`C = \\tfrac23\\rho_c(3V_s^2 - V_p^2)c_w^3 = \\tfrac23(\\mu_c - \\lambda_c)c_w^3`,
+    both non-negative for a Poisson ratio in [0, 1/4]. ``rule="paper"`` keeps its constants.
+
     In both rules :math:`m_c = \\rho_c c_w^3` (eq. 9).
 
     Parameters
@@ -132,6 +145,8 @@ def lattice_constants(cement: CementMaterial, cell_width, rule="waves"):
     cell_width : float
         :math:`c_w`, m, ``> 0``.
     rule : {"waves", "paper"}
+    rotations : bool
+        Constants of the lattice whose particles rotate (see above); default False.
 
     Returns
     -------
@@ -150,7 +165,14 @@ def lattice_constants(cement: CementMaterial, cell_width, rule="waves"):
         raise ValueError(f"cell_width must be > 0 m; got {cell_width!r}")
     rho, vp2, vs2 = cement.density, cement.vp**2, cement.vs**2
     Cn = 0.5 * rho * (vp2 - vs2) * cell_width
-    if rule == "waves":
+    if rule == "waves" and rotations:
+        if not vs2 <= vp2 / 2.0 <= 1.5 * vs2:
+            raise ValueError(f"the rotating cement lattice holds Poisson ratios in [0, 1/4] "
+                             f"only; got {cement.poisson_ratio:.3g} (vp {cement.vp:g}, "
+                             f"vs {cement.vs:g} m/s)")
+        Cn = rho * (vp2 - 2.0 * vs2) * cell_width
+        C = 2.0 * rho * (3.0 * vs2 - vp2) * cell_width**3 / 3.0
+    elif rule == "waves":
         C = rho * (3.0 * vs2 - vp2) * cell_width**3 / 6.0
     elif rule == "paper":
         C = 0.25 * rho * (3.0 * vs2 - vp2) * cell_width**3

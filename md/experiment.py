@@ -47,6 +47,9 @@ MD_SCHEMA = {
     "saturations": ([0.0, 0.02, 0.05, 0.1, 0.2], "numbers", "1",
                     "cement saturations S_c (fraction of pore cells)"),
     "wave": ("p", "string", "", "'p' or 's'"),
+    "rotations": (True, "boolean", "",
+                  "grains and cement particles rotate in the linearised sample (false: the "
+                  "source's translations only, eqs. 4-6)"),
     "time_step_factor": (0.5, "number", "", "pulse-test time step / stability limit"),
     "workdir": ("", "string", "", "folder for stage files (default: <output stem>_work)"),
 }
@@ -97,6 +100,9 @@ def md_scene_from_dict(raw: dict) -> dict:
         elif kind == "integer":
             if not (isinstance(v, int) and not isinstance(v, bool)):
                 raise _bad(k, f"must be an integer; got {v!r}")
+        elif kind == "boolean":
+            if not isinstance(v, bool):
+                raise _bad(k, f"must be true or false; got {v!r}")
         elif kind == "string":
             if not isinstance(v, str):
                 raise _bad(k, f"must be a string; got {v!r}")
@@ -174,8 +180,8 @@ _PULSE_VARIABLES = {"v": "velocity", "err": "velocity_error",
 
 #: Scene keys a cemented member's stage file is valid for (recorded in its attributes, checked
 #: on resume); the uncemented member depends on the pack, the wave and the time step only.
-_PULSE_KEYS = ("interface", "wave", "time_step_factor", "seed")
-_UNCEMENTED_KEYS = ("wave", "time_step_factor")
+_PULSE_KEYS = ("interface", "wave", "time_step_factor", "seed", "rotations")
+_UNCEMENTED_KEYS = ("wave", "time_step_factor", "rotations")
 
 
 @dataclass(frozen=True)
@@ -204,7 +210,7 @@ class _Member:
 
     def attrs(self, params, pack_id):
         keys = _UNCEMENTED_KEYS if self.cement is None else _PULSE_KEYS
-        out = {k: params[k] for k in keys}
+        out = {k: int(params[k]) if isinstance(params[k], bool) else params[k] for k in keys}
         out["pack_id"] = pack_id
         if self.cement is not None:
             out["resolution"] = self.resolution
@@ -270,13 +276,13 @@ def _run_member(pack_file, params, member, pack_id, folder):
 
     t0 = time.perf_counter()
     if member.cement is None:
-        system = acoustic_system(load_pack(pack_file))
+        system = acoustic_system(load_pack(pack_file), rotations=params["rotations"])
     else:
         cem = _cementation(pack_file, params, member.resolution)
         material = {"hard": HARD_CEMENT, "soft": SOFT_CEMENT}[member.cement]
         system = acoustic_system(cem.pack, cem.lattice,
                                  cem.cells(member.scheme, member.saturation), material,
-                                 interface=params["interface"])
+                                 interface=params["interface"], rotations=params["rotations"])
     ds = pulse_test(system, params["wave"], time_step_factor=params["time_step_factor"])
     out = {var: float(ds[var]) for var in _PULSE_VARIABLES.values()}
     out["wall_time"] = time.perf_counter() - t0
@@ -470,7 +476,7 @@ def _scene_dataset(scene, ds, per_sample, member_seconds=None):
         attrs={"Conventions": "CF-1.10", "title": f"rockcem MD scene {scene['name']}",
                "scene_name": scene["name"], "description": scene["description"],
                "scene_json": json.dumps(scene), "resolution": p["resolution"],
-               "interface": p["interface"],
+               "interface": p["interface"], "rotations": int(p["rotations"]),
                "references": "García & Medina (MD), Sects. III-IV, eqs. 4-11, Table II"},
     )
     if "wall_time" in ds:

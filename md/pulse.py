@@ -139,6 +139,9 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
 
     from ._kernels_acoustic import leapfrog_run
 
+    if parallel and system.rotations:
+        raise ValueError("parallel=True runs translations only; build the system with "
+                         "rotations=False or use parallel=False")
     if not 0.0 < time_step_factor <= 1.0:
         raise ValueError(f"time_step_factor must lie in (0, 1]; got {time_step_factor}")
     if int(record_every) != record_every or record_every < 1:
@@ -173,11 +176,14 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
     counts = np.bincount(slab, minlength=n_slabs)
     inv_m = 1.0 / system.masses
     n = system.n_particles
-    u = np.zeros((n, 3))
-    v = np.zeros((n, 3))
+    u = np.zeros((n, system.dof))
+    v = np.zeros((n, system.dof))
     amp = 1e-4 * system.slab_thickness
     u[flag == 2, ax] = amp
-    if parallel:
+    if system.rotations:
+        from ._kernels_rotation import leapfrog_run_rot as run
+        args = (1.0 / system.dof_masses, flag, slab, n_slabs, *system._kernel_args())
+    elif parallel:
         from ._kernels_parallel import leapfrog_run_parallel as run
         args = (inv_m, flag, slab, n_slabs, *system.gather_args())
     else:
@@ -259,6 +265,7 @@ def pulse_test(system: AcousticSystem, wave="p", *, detectors=None, time_step_fa
                                  "velocity_error_half_slab uses half a slab",
                "references": "García & Medina, Sects. III F-G, eqs. 4-11",
                # how the sample was linearised (md.acoustic_system), where it says
+               "rotations": int(system.rotations),
                **{key: system.metadata[key] for key in _LINEARISATION
                   if key in system.metadata}},
     )

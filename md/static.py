@@ -68,7 +68,11 @@ def _prescribed(system: AcousticSystem):
 
 
 def _load_path(system: AcousticSystem, flag):
-    """Particles bonded (directly or through others) to the driven or the fixed slab."""
+    """Particles bonded (directly or through others) to the driven or the fixed slab, less the
+    dangling ones: a free particle held by a single bond carries no load at equilibrium (nothing
+    else acts on it, so its bond force is zero), nor does a chain of them. They are pruned, leaf
+    by leaf, before the solve: with rotations such a particle is a mechanism (it turns about
+    its contact point at no cost), and a Jacobi-preconditioned solve would move it far."""
     import scipy.sparse as sp
     from scipy.sparse.csgraph import connected_components
 
@@ -79,7 +83,31 @@ def _load_path(system: AcousticSystem, flag):
     graph = sp.coo_matrix((np.ones(i.size, np.int8), (i, j)), shape=(n, n))
     _, label = connected_components(graph, directed=False)
     anchored = np.unique(label[flag != 0])
-    return np.isin(label, anchored)
+    keep = np.isin(label, anchored)
+    while True:
+        live = keep[i] & keep[j]
+        degree = np.bincount(i[live], minlength=n) + np.bincount(j[live], minlength=n)
+        leaf = keep & (flag == 0) & (degree <= 1)
+        if not leaf.any():
+            return keep
+        keep &= ~leaf
+
+
+def _bonds_among(system: AcousticSystem, keep):
+    """The system with only the bonds whose two particles are both in ``keep``."""
+    import dataclasses
+
+    own = keep[system.bond_i] & keep[system.bond_j]
+    if own.all():
+        return system
+    table = system.lattice_neighbors.copy()
+    rows = keep[system.n_grains:][:, None] & keep[np.maximum(table, 0)]
+    table[~rows] = -1
+    sub = {f: getattr(system, f)[own] for f in ("bond_i", "bond_j", "bond_normal", "bond_kn",
+                                                "bond_kt", "bond_gn", "bond_gt")}
+    if system.rotations:
+        sub.update(arm_i=system.arm_i[own], arm_j=system.arm_j[own])
+    return dataclasses.replace(system, lattice_neighbors=table, **sub)
 
 
 def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
@@ -88,7 +116,9 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
 
     The bottom slab is displaced by a small :math:`u_z` (``wave="p"``, uniaxial strain) or
     :math:`u_x` (``wave="s"``, simple shear), all of its particles alike, the top slab is held
-    fixed, the periodic box keeps the lateral strain zero; :math:`K_{ff} u_f = -K_{fp} u_p` is
+    fixed, the periodic box keeps the lateral strain zero (with rotations,
+    :attr:`md.AcousticSystem.rotations`, only the end slabs' translations are prescribed and
+    every rotation is free); :math:`K_{ff} u_f = -K_{fp} u_p` is
     solved by Jacobi-preconditioned conjugate gradients on the free particles bonded, directly or
     through others, to an end slab (rattlers and floating cement clusters drop out). The stress is
     the reaction on the fixed slab over the box area (the same through every horizontal section);
@@ -108,19 +138,24 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     slab, n_slabs, flag = _prescribed(system)
     n = system.n_particles
     amp = 1e-6 * system.slab_thickness
-    u_p = np.zeros((n, 3))
+    dof = system.dof
+    u_p = np.zeros((n, dof))
     ax = _wave_axis(wave)
     u_p[flag == 2, ax] = amp
-    diag = system.stiffness_diagonal()      # Jacobi preconditioner; zero: no bonds
     connected = _load_path(system, flag)
-    free = ((flag == 0) & connected)[:, None] & (diag > 0)
+    system = _bonds_among(system, connected | (flag != 0))
+    diag = system.stiffness_diagonal()      # Jacobi preconditioner; zero: no bonds
+    free = np.zeros((n, dof), bool)         # the end slabs' translations are prescribed
+    free[:, :3] = ((flag == 0) & connected)[:, None]
+    free[:, 3:] = connected[:, None]        # rotations, where there are any, are all free
+    free &= diag > 0
     free_idx = np.flatnonzero(free.ravel())
     if free_idx.size == 0:
         raise ValueError("no free particle between the end slabs is bonded to them")
     b = system.forces(u_p, parallel=parallel).ravel()[free_idx]
 
     def matvec(y):
-        u = np.zeros(3 * n)
+        u = np.zeros(dof * n)
         u[free_idx] = y
         return -system.forces(u, parallel=parallel).ravel()[free_idx]
 
@@ -138,7 +173,7 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
         raise RuntimeError(f"static solve did not converge in {count[0]} CG iterations")
     u = u_p.ravel().copy()
     u[free_idx] = y
-    u = u.reshape(n, 3)
+    u = u.reshape(n, dof)
     f = system.forces(u)
     area = system.box.lx * system.box.ly
     stress = float(np.sum(f[flag == 1, ax])) / area       # push on the fixed top slab
@@ -158,6 +193,7 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     modulus = stress / -slope
     if not modulus > 0:
         raise RuntimeError(f"the sample has no {wave.upper()}-wave stiffness between the end slabs "
-                           "(no load-bearing path)")
+                           f"(no load-bearing path; stress {stress:.3g} Pa, interior strain "
+                           f"{slope:.3g})")
     return StaticModulus(modulus, density, math.sqrt(modulus / density), slope, stress,
                          count[0])

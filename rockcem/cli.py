@@ -38,8 +38,8 @@ def _materials(args) -> int:
 
 
 def _summary(ds) -> str:
-    lines = [f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
-             f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m"]
+    lines = [(f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
+              f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m")]
     extra = [d for d in ds.dims if d not in ("depth", "model")]
     if extra:
         lines.append("sweep: " + ", ".join(f"{d} = {ds[d].values.tolist()}" for d in extra))
@@ -72,13 +72,58 @@ def _run_md(raw, args) -> int:
     ds = run_md_scene(scene, workdir=work, jobs=args.jobs, progress=not args.quiet)
     path = write_dataset(ds, out)
     if not args.quiet:
-        v = next(n for n in ds.data_vars if n in ("vp", "vs"))
-        print(f"MD scene {scene['name']}: {v} (km/s) over " + ", ".join(
-            f"{d} = {ds[d].values.tolist()}" for d in ("sample", "cement", "scheme",
-                                                        "saturation")))
-        print(ds[v].to_dataframe()[v].unstack("saturation").round(3).to_string())
+        print(_md_summary(ds))
         print(f"wrote {path}")
     return 0
+
+
+#: Rows of the MD study summary: label, variable suffix (after ``vp``/``vs``).
+_MD_ROWS = (("pulse", ""), ("± eq. 11", "_error"), ("± resolution", "_error_resolution"),
+            ("static", "_static"))
+
+
+def _md_summary(ds, *, width=100) -> str:
+    """The summary ``rockcem run`` prints of an MD study's output: for every sample, cement and
+    scheme, a block of rows against cement saturation S_c — the pulse velocity, its eq. 11
+    error, its resolution error and the velocity of the static modulus (those of the four
+    that ``ds`` has), each to 3 decimals in the units of its attributes (named once above the
+    table). A table wider than ``width`` characters is split into several over S_c."""
+    import textwrap
+
+    import numpy as np
+
+    v = next(n for n in ("vp", "vs") if n in ds.data_vars)
+    keys = [d for d in ("sample", "cement", "scheme") if d in ds[v].dims]
+    rows = [(label, f"{v}{suffix}") for label, suffix in _MD_ROWS if f"{v}{suffix}" in ds]
+    lines = textwrap.wrap(f"MD scene {ds.attrs.get('scene_name', '?')}: {v} against cement "
+                          f"saturation S_c, per {', '.join(keys) or 'member'}:", width)
+    tag = max(len(label) for label, _ in rows)
+    for label, name in rows:
+        attrs = ds[name].attrs
+        lines.extend(textwrap.wrap(f"{label:<{tag}}  {attrs.get('long_name', name)} "
+                                   f"({attrs.get('units', 'no units')})", width,
+                                   initial_indent="  ", subsequent_indent=" " * (tag + 4)))
+    labels = [[str(x) for x in ds[d].values] for d in keys]
+    widths = [max(map(len, ls)) for ls in labels]
+    sat = [f"{x:g}" for x in ds["saturation"].values]
+    cells = {name: ds[name].transpose(*keys, "saturation").values for _, name in rows}
+    cell = max(7, max(map(len, sat)) + 2)
+    left = sum(w + 2 for w in widths) + tag
+    per_table = max(1, (width - left) // cell)
+    for start in range(0, len(sat), per_table):
+        cols = slice(start, start + per_table)
+        lines.append(f"{'S_c':>{left}}" + "".join(f"{x:>{cell}}" for x in sat[cols]))
+        previous = [None] * len(keys)
+        for index in np.ndindex(*(len(ls) for ls in labels)):
+            names = [ls[i] for ls, i in zip(labels, index)]
+            head = "".join((n if names[:k + 1] != previous[:k + 1] else "").ljust(w + 2)
+                           for k, (n, w) in enumerate(zip(names, widths)))
+            previous = names
+            for k, (label, name) in enumerate(rows):
+                values = cells[name][index][cols]
+                lines.append((head if k == 0 else " " * len(head)) + f"{label:<{tag}}"
+                             + "".join(f"{x:>{cell}.3f}" for x in values))
+    return "\n".join(lines)
 
 
 def _run(args) -> int:
@@ -130,6 +175,12 @@ def _plot(args) -> int:
         ds = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
         raise ValueError(f"{args.file} is not a readable netCDF file: {exc}") from None
+    args.kind = _plot_kind(ds, args, path)
+    if args.kind == "md-study":
+        ds = _select(ds, args.select or [])
+        out = args.output or path.with_name(f"{path.stem}_{args.kind}.png")
+        print(f"wrote {plots.save_figure(plots.md_study_velocity(ds), out)}")
+        return 0
     if args.kind in ("vp-porosity", "template") and ds.attrs.get("lithology") != "sandstone":
         drawn = {"vp-porosity": "the contact models", "template": "the patchy-cement template"}
         raise ValueError(f"--kind {args.kind} draws {drawn[args.kind]} of a sandstone; "
@@ -145,6 +196,27 @@ def _plot(args) -> int:
     saved = plots.save_figure(draw(ds), out)
     print(f"wrote {saved}")
     return 0
+
+
+def _plot_kind(ds, args, path) -> str:
+    """The figure ``rockcem plot`` draws of ``ds``: ``--kind``, or by default ``depth`` for a
+    scene's output (dimension ``depth``) and ``md-study`` for an MD study's (dimension
+    ``saturation``, no ``depth``); a one-line ValueError for a file that is neither, or a kind
+    that does not fit the file."""
+    dims = ", ".join(map(str, ds.dims)) or "none"
+    if "depth" in ds.dims:
+        if args.kind == "md-study":
+            raise ValueError(f"--kind md-study draws an MD study (dimension saturation); "
+                             f"{path.name} is a scene's output (dimensions: {dims})")
+        return args.kind or "depth"
+    if "saturation" not in ds.dims:
+        raise ValueError(f"{path.name} is neither a scene's output (dimension depth) nor an MD "
+                         f"study's (dimension saturation); its dimensions: {dims}")
+    if args.kind not in (None, "md-study") or args.well:
+        asked = f"--kind {args.kind}" if args.kind not in (None, "md-study") else "--well"
+        raise ValueError(f"{path.name} is an MD study (velocity against cement saturation): "
+                         f"{asked} draws a scene's output along depth; plot the file without it")
+    return "md-study"
 
 
 def _select(ds, selections):
@@ -234,8 +306,11 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")
-    p.add_argument("--kind", choices=["depth", "vp-porosity", "template"], default="depth",
-                   help="depth trends (default), velocity-porosity, or the rock-physics template")
+    p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "md-study"],
+                   default=None,
+                   help="depth trends (the default for a scene's file), velocity-porosity, the "
+                        "rock-physics template, or an MD study's velocity against cement "
+                        "saturation (the default, and the only kind, for an MD study's file)")
     p.add_argument("--select", action="append", metavar="KEY=VALUE",
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
                         "path.gradient=30; repeat for more values or dimensions)")

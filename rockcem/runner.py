@@ -25,6 +25,7 @@ _MODEL_LABELS_LONG = {
     "self_consistent": "Model 2: self-consistent, spheroidal pores",
     "generalized_gassmann": "Model 3: multi-mineral Krief + generalized Gassmann",
     "patchy_cement": "Model 4: patchy cement + Gassmann",
+    "md": "MD grain pack (md engine) + Gassmann",
 }
 
 
@@ -153,6 +154,22 @@ class _Pipeline:
         return bulk_density([m.rho for m in minerals], self.solid_fractions, self.porosity,
                             fluid.rho)
 
+    @cached_property
+    def md(self):
+        """The MD members: ``(models, per-depth diagnostics, per-model diagnostics)``."""
+        from pathlib import Path
+
+        from ._md_backend import md_model
+
+        minerals, fluid = self.materials
+        out = Path(self.scene.output)
+        with _section("models.md"):
+            return md_model(self.now(self.path.depth), self.pressures.effective,
+                            self.pressures.max_effective, self.sandstone.cement_fraction,
+                            minerals[0], minerals[1], fluid, self.lith["grain_size"],
+                            self.sec["models.md"],
+                            workdir=out.with_name(out.stem + "_md_work"))
+
     def model(self, label):
         from . import models
 
@@ -255,11 +272,27 @@ def evaluate(scene):
     coords = {"depth": (("depth",), depth)}
     if scene.sections["path"]["kind"] == "horizons":
         coords["horizon"] = (("depth",), pipe.history.horizon.astype(object))
+    labels = list(scene.models)
     if wanted:
-        results = [pipe.model(label) for label in scene.models]
+        results = []
+        for label in scene.models:
+            if label == "md":
+                md_models, per_depth, per_model = pipe.md
+                results += list(md_models.values())
+            else:
+                results.append(pipe.model(label))
+        if "md" in scene.models:
+            at = labels.index("md")
+            labels[at:at + 1] = list(md_models)
         for name in wanted:
             data[name] = (("model", "depth"), np.stack([getattr(r, name) for r in results]))
-        coords["model"] = (("model",), np.array(scene.models, dtype=object))
+        coords["model"] = (("model",), np.array(labels, dtype=object))
+        if "md" in scene.models:
+            data.update({k: (("depth",), v) for k, v in per_depth.items()})
+            for k in next(iter(per_model.values())):
+                data[k] = (("model", "depth"), np.stack(
+                    [per_model[m][k] if m in per_model else np.full(depth.shape, np.nan)
+                     for m in labels]))
     attrs = _global_attrs(scene)
     warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
     if warnings:
@@ -267,7 +300,8 @@ def evaluate(scene):
     ds = build_dataset(data, coords, attrs)
     if "model" in ds.coords:
         ds["model"].attrs["description"] = "; ".join(
-            f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
+            f"{m}: {_MODEL_LABELS_LONG.get(m, _MODEL_LABELS_LONG['md'] + ', ' + m[3:] + ' cement')}"
+            for m in labels)
     return ds
 
 

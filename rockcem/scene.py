@@ -134,12 +134,34 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                         "calibration file or shipped name whose [parameters] set the keys "
                         "above (datasets/calibrations/README.md)"),
     },
+    "models.md": {
+        "depths": (None, "numbers", "m", "depths the MD engine runs at (nearest profile depth; "
+                   "or give count)"),
+        "count": (None, "integer", "", "number of MD depths spread evenly over the profile "
+                  "(below the surface); default 3 when depths is not given"),
+        "schemes": (["coating"], "strings", "",
+                    "cement location: coating (quartz overgrowths, the default), contact, "
+                    "pore_body, pendular; one model member per scheme"),
+        "size": ([4.0, 4.0, 12.0], "numbers", "grain diameters", "box of the MD pack"),
+        "radius_spread": (0.1, "number", "1",
+                          "grain radii uniform in [(1 - spread) D/2, D/2], D = grain_size"),
+        "seed": (0, "integer", "", "random seed of settling and pore-body cement"),
+        "resolution": (3.0, "number", "cells per radius", "cement lattice resolution Omega"),
+        "resolution_check": (2.0, "number", "cells per radius",
+                             "coarser Omega for the resolution error (0 = none)"),
+        "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
+        "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
+        "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),
+        "fall_stiffness_factor": (1e-3, "number", "", "contact softening while grains fall"),
+        "workdir": (None, "string", "", "folder of the MD stage files (default: "
+                    "<output stem>_md_work)"),
+    },
 }
 #: Model sections that take a calibration file.
 CALIBRATED_MODELS = ("patchy_cement",)
 
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "models", "sweep"}
-MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement")
+MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
 #: Variables that depend on the petro-elastic model (dimension ``model``).
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
 #: Variables of the rock state, per lithology.
@@ -277,6 +299,9 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
             raise ValueError(f"unknown model {label!r}{_suggest(label, MODEL_LABELS)}")
     if lithology == "shale" and "patchy_cement" in models_raw:
         raise ValueError("model 'patchy_cement' (Model 4) needs cement: sandstone scenes only")
+    if lithology == "shale" and "md" in models_raw:
+        raise ValueError("model 'md' (the MD grain pack) is a sandstone model: sandstone scenes "
+                         "only")
     models = tuple(label for label in MODEL_LABELS if label in models_raw)
     calibrations = {} if scene_cal is None else {"scene": scene_cal}
     for label in models:

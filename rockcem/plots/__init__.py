@@ -1,5 +1,6 @@
 """Figures of scene results: depth trends, velocity–porosity with the contact-model family, and
-the rock-physics template (acoustic impedance against Vp/Vs).
+the rock-physics template (acoustic impedance against Vp/Vs); and of MD studies: velocity against
+cement saturation S_c (:func:`md_study_velocity`).
 
 Every axis is labelled with the quantity and its unit from the variable registry
 (:func:`rockcem.variables.variable_attrs`), written one way throughout: the ``long_name`` without
@@ -17,9 +18,10 @@ from __future__ import annotations
 from ._save import save_figure
 from ._style import MAX_MEMBERS, MODEL_LABELS
 from .depth import depth_trends
+from .md_study import md_study_velocity, velocity_error
 from .templates import rock_physics_template, velocity_porosity
 from .wells import fit_figure, well_overlay, well_template
 
-__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "velocity_porosity",
-           "rock_physics_template", "save_figure", "well_overlay", "well_template",
-           "fit_figure"]
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "fit_figure", "md_study_velocity",
+           "rock_physics_template", "save_figure", "velocity_error", "velocity_porosity",
+           "well_overlay", "well_template"]

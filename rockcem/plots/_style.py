@@ -254,8 +254,10 @@ def _check_dataset(ds, what="ds"):
         raise ValueError(f"{what} must be an xarray.Dataset; got {type(ds).__name__}")
     if "depth" not in ds.dims:
         dims = ", ".join(map(str, ds.dims)) or "none"
+        study = ("; an MD study (dimension saturation) is drawn by md_study_velocity"
+                 if "saturation" in ds.dims else "")
         raise ValueError(f"{what} has no 'depth' dimension (dimensions: {dims}); plots need the "
-                         "scene Dataset with depth as a dimension")
+                         f"scene Dataset with depth as a dimension{study}")
 
 
 def _require(ds, name: str, purpose: str):

@@ -143,16 +143,8 @@ def test_bond_partners_against_brute_force(rng):
 
 
 @pytest.fixture(scope="module")
-def small_pack():
-    from pathlib import Path
-
-    data = Path(__file__).parent / "data" / "compacted_pack_3x3x8.csv"
-    with open(data) as fh:
-        box = next(line for line in fh if line.startswith("# box_m:")).split(":")[1].split()
-    table = np.loadtxt(data, delimiter=",")
-    z = np.zeros_like(table[:, :3])
-    return Pack(table[:, :3], z, z.copy(), table[:, 3], Box(*map(float, box)), QUARTZ,
-                np.zeros((0, 2), np.int32), np.zeros((0, 3)))
+def small_pack(compacted_pack):
+    return compacted_pack
 
 
 @pytest.mark.parametrize("scheme", ["pendular", "contact"])

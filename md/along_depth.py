@@ -1,0 +1,259 @@
+"""MD along a burial path: one grain pack carried down, cemented and measured at chosen depths.
+
+The MD backend of a burial scene (:mod:`rockcem.runner` calls :func:`carry_down`). ``md`` knows
+nothing of burial: it is handed, per depth, the largest effective stress the sediment has borne
+and its cement fraction, and returns the dry moduli of the cemented pack (SI units).
+
+What happens, in order (the reasoning is in the README, "MD along depth"):
+
+1. One pack is settled (:func:`md.settle`) and never re-settled.
+2. Depths are taken in order of their largest effective stress; the *uncemented* pack is
+   compacted between frozen end slabs (:func:`md.compact`, uniaxial strain, vertical stress
+   :math:`\\sigma_{zz}`: a laterally confined basin loads its sediment vertically) to each
+   depth's stress in turn, so the compaction increments are reused down the path.
+3. At each depth the compacted pack's pore cells are filled to the saturation
+   :math:`S_c = \\phi_{cem}/\\phi_{pack}` (cement volume per bulk volume over the pack's own
+   porosity) by each scheme (one growth order per scheme, :func:`md.cement_sweep`); a depth
+   whose cement exceeds the pores is cemented to :math:`S_c = 1` and flagged.
+4. The cemented sample is linearised with rotations (:func:`md.acoustic_system`) and its static
+   P (uniaxial strain) and S (simple shear) moduli are solved for (:func:`md.static_modulus`),
+   the long-wave limit that logs see; ``measure="pulse"`` uses pulse-test velocities instead.
+5. With ``resolution_check`` every member is also measured at a coarser :math:`\\Omega`, and
+   the first-order Richardson estimate :math:`|X(\\Omega) - X(\\Omega_c)|/(\\Omega/\\Omega_c - 1)`
+   is reported as the resolution error of each modulus.
+
+Every compacted pack and every measured member is saved in ``workdir`` (``pack/``,
+``members/``), so an interrupted run resumes; a stage file made with other options is redone.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["carry_down", "SCHEMES", "MEASURES"]
+
+#: Cementation schemes a depth may use (:func:`md.grow_cement`).
+SCHEMES = ("contact", "coating", "pore_body", "pendular")
+#: How the moduli are measured.
+MEASURES = ("static", "pulse")
+
+
+def _key(options: dict) -> str:
+    return hashlib.sha1(json.dumps(options, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _saved(path: Path, key: str):
+    """The Dataset saved at ``path`` if it was made with the options fingerprinted by ``key``."""
+    import xarray as xr
+
+    if not path.exists():
+        return None
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        if ds.attrs.get("options_key") != key:
+            return None
+        return ds.load()
+
+
+def _compacted(pack, stress, folder, chain_key, progress):
+    """The pack compacted to ``stress`` (Pa, vertical), saved as a stage file."""
+    from .protocols import compact
+    from .state import load_pack, save_pack
+
+    key = _key({"previous": chain_key, "stress": float(stress)})
+    path = folder / f"compact_{stress / 1e6:.6g}MPa.nc"
+    if path.exists():
+        done = load_pack(path)
+        if done.metadata.get("options_key") == key:
+            return done, key
+    out = compact(pack, target_stress=float(stress), stress_measure="stress_zz",
+                  progress=progress)
+    out.metadata["options_key"] = key
+    save_pack(out, path)
+    return out, key
+
+
+def _moduli(system, measure):
+    """Dry P-wave and shear moduli (Pa) and density (kg/m³) of a linearised sample."""
+    from .acoustic import pulse_test
+    from .static import static_modulus
+
+    if measure == "static":
+        p, s = static_modulus(system, "p"), static_modulus(system, "s")
+        return p.modulus, s.modulus, p.density
+    p, s = pulse_test(system, "p"), pulse_test(system, "s")
+    rho = float(p.density)
+    return rho * float(p.velocity) ** 2, rho * float(s.velocity) ** 2, rho
+
+
+def _member(pack, saturation, scheme, omega, cement, options):
+    """Moduli of the pack cemented to ``saturation`` by ``scheme`` at resolution ``omega``."""
+    from .acoustic import acoustic_system
+    from .cement import cement_lattice
+    from .growth import cement_sweep
+
+    if saturation > 0:
+        lat = cement_lattice(pack, omega)
+        cells = cement_sweep(lat, [saturation], scheme, seed=options["seed"])[0]
+        system = acoustic_system(pack, lat, cells, cement, interface=options["interface"],
+                                 slab_thickness=options["slab"] * 2 * pack.radii.max())
+    else:
+        system = acoustic_system(pack, slab_thickness=options["slab"] * 2 * pack.radii.max())
+    return _moduli(system, options["measure"])
+
+
+def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 4.0, 12.0),
+               radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
+               fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
+               interface="facet", measure="static", slab=1.0, workdir, progress=False):
+    """Moduli of one MD pack carried down a burial path and cemented at each depth.
+
+    Parameters
+    ----------
+    max_stress : array_like, shape (n,)
+        Largest vertical effective stress each depth has borne, MPa, ``> 0``.
+    cement_fraction : array_like, shape (n,)
+        Cement volume per bulk volume at each depth, in [0, 1).
+    schemes : sequence of str
+        Cementation schemes (:data:`SCHEMES`); default coating (quartz overgrowths).
+    size : (float, float, float)
+        Box of the pack, largest grain diameters (:func:`md.settle`); the static moduli need at
+        least 4 slabs of two diameters along z after compaction.
+    radius_range : (float, float)
+        Smallest and largest grain radius, m.
+    material : md.GrainMaterial, optional
+        Grain material, default :data:`md.QUARTZ`.
+    cement : md.CementMaterial, optional
+        Default :data:`md.HARD_CEMENT`.
+    seed : int
+        Settling and pore-body growth seed.
+    fall_stiffness_factor : float
+        Contact softening while grains fall (:func:`md.settle`).
+    resolution, resolution_check : float
+        Cement lattice resolution :math:`\\Omega` (``>= 1``) and a coarser one for the resolution
+        error (0: none).
+    interface : str
+        Grain–cement interface rule (:mod:`md.interface`).
+    measure : {"static", "pulse"}
+    slab : float
+        Thickness of the slabs the sample is cut into along z for the moduli, largest grain
+        diameters (``> 0``); the interior strain is fitted through the slabs between the two
+        end slabs, so a sample needs at least 4 and should have 8 or more: on 4 slabs the two
+        interior points give noise, not a strain.
+    workdir : path
+        Folder of the stage files.
+    progress : bool
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``point`` (the depths, in the order given) and ``scheme``: ``p_modulus``,
+        ``shear_modulus`` (Pa), ``density`` (kg/m³, dry sample), their resolution errors
+        ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``),
+        ``saturation`` (S_c), ``cement_overflow`` (1 where the cement exceeds the pores),
+        ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
+        core window), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
+        increment past the target), ``coordination_number``, ``wall_time`` (s).
+    """
+    import xarray as xr
+    from tqdm.auto import tqdm
+
+    from .cement import HARD_CEMENT
+    from .contact import QUARTZ
+    from .observe import coordination_number, porosity
+    from .protocols import prepare_pack
+    from .state import _atomic_netcdf
+
+    stress = np.atleast_1d(np.asarray(max_stress, dtype=float))
+    frac = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
+    if stress.ndim != 1 or stress.shape != frac.shape or stress.size == 0:
+        raise ValueError("max_stress and cement_fraction must be 1-d arrays of one length; got "
+                         f"shapes {stress.shape} and {frac.shape}")
+    if not np.all(np.isfinite(stress) & (stress > 0)):
+        raise ValueError(f"max_stress must be finite and > 0 MPa; got {stress.min():g} MPa")
+    if not np.all(np.isfinite(frac) & (frac >= 0) & (frac < 1)):
+        raise ValueError("cement_fraction must lie in [0, 1)")
+    schemes = tuple(schemes)
+    bad = [s for s in schemes if s not in SCHEMES]
+    if bad or not schemes or len(set(schemes)) != len(schemes):
+        raise ValueError(f"schemes must be distinct names from {SCHEMES}; got {schemes}")
+    if measure not in MEASURES:
+        raise ValueError(f"measure must be one of {MEASURES}; got {measure!r}")
+    if not resolution >= 1:
+        raise ValueError(f"resolution must be >= 1; got {resolution}")
+    if resolution_check != 0 and not 1 <= resolution_check < resolution:
+        raise ValueError(f"resolution_check must be 0 or lie in [1, {resolution:g}); "
+                         f"got {resolution_check}")
+    material = QUARTZ if material is None else material
+    cement = HARD_CEMENT if cement is None else cement
+    folder = Path(workdir)
+    settle_options = {"size": tuple(float(s) for s in size),
+                      "radius_range": tuple(float(r) for r in radius_range),
+                      "material": material, "seed": int(seed),
+                      "fall_stiffness_factor": float(fall_stiffness_factor)}
+    chain = _key({k: (v if k != "material" else repr(v)) for k, v in settle_options.items()})
+    folder = folder / chain             # another pack (size, seed, material, ...): new folder
+    pack = prepare_pack(folder / "pack", settle_options=settle_options, progress=progress)
+    if not slab > 0:
+        raise ValueError(f"slab must be > 0 diameters; got {slab}")
+    options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
+               "cement": [cement.vp, cement.vs, cement.density]}
+    omegas = [float(resolution)] + ([float(resolution_check)] if resolution_check else [])
+    n, m = stress.size, len(schemes)
+    shape = (n, m)
+    out = {k: np.full(shape, np.nan) for k in ("p_modulus", "shear_modulus", "density",
+                                               "p_modulus_check", "shear_modulus_check",
+                                               "saturation", "porosity", "wall_time")}
+    overflow = np.zeros(shape, np.int8)
+    per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
+                                                 "coordination_number")}
+    order = np.argsort(stress, kind="stable")
+    bar = tqdm(total=n * m, disable=not progress, desc="MD along depth", unit="member")
+    for i in order:
+        pack, chain = _compacted(pack, stress[i] * 1e6, folder / "pack", chain, progress)
+        phi = porosity(pack)
+        per_depth["porosity_pack"][i] = phi
+        per_depth["stress_reached"][i] = pack.metadata.get("stress_zz", np.nan)
+        per_depth["coordination_number"][i] = coordination_number(pack)
+        sat = frac[i] / phi
+        for k, scheme in enumerate(schemes):
+            overflow[i, k] = sat > 1.0
+            s_c = min(sat, 1.0)
+            key = _key({"pack": chain, "saturation": s_c, "scheme": scheme,
+                        "omegas": omegas, **options})
+            path = folder / "members" / f"{stress[i]:.6g}MPa_{scheme}_sc{s_c:.6g}.nc"
+            done = _saved(path, key)
+            if done is None:
+                t0 = time.perf_counter()
+                res = [_member(pack, s_c, scheme, om, cement, options) for om in omegas]
+                values = {"p_modulus": res[0][0], "shear_modulus": res[0][1],
+                          "density": res[0][2],
+                          "p_modulus_check": res[-1][0] if len(res) > 1 else np.nan,
+                          "shear_modulus_check": res[-1][1] if len(res) > 1 else np.nan,
+                          "wall_time": time.perf_counter() - t0}
+                done = xr.Dataset({k: ((), v) for k, v in values.items()},
+                                  attrs={"options_key": key})
+                _atomic_netcdf(done, path)
+            for var in ("p_modulus", "shear_modulus", "density", "p_modulus_check",
+                        "shear_modulus_check", "wall_time"):
+                out[var][i, k] = float(done[var])
+            out["saturation"][i, k] = s_c
+            out["porosity"][i, k] = phi * (1.0 - s_c)
+            bar.update()
+    bar.close()
+    scale = (resolution / resolution_check - 1.0) if resolution_check else np.nan
+    dims = ("point", "scheme")
+    data = {k: (dims, v) for k, v in out.items() if not k.endswith("_check")}
+    for k in ("p_modulus", "shear_modulus"):
+        data[f"{k}_error"] = (dims, np.abs(out[k] - out[f"{k}_check"]) / scale)
+    data["cement_overflow"] = (dims, overflow)
+    data.update({k: (("point",), v) for k, v in per_depth.items()})
+    return xr.Dataset(data, coords={"scheme": list(schemes)},
+                      attrs={"resolution": float(resolution),
+                             "resolution_check": float(resolution_check),
+                             "interface": interface, "measure": measure, "rotations": 1,
+                             "n_grains": int(pack.n_grains)})

@@ -1,0 +1,177 @@
+"""The MD backend of a burial scene: burial hands each chosen depth's largest effective stress
+and cement fraction to :func:`md.along_depth.carry_down`, and the dry moduli it returns are
+saturated with the scene's fluid by Gassmann's equation.
+
+Private to the scene runner (:mod:`rockcem.runner`); imported, with numba, only by a scene
+with ``[models.md]``. The mapping and its reasoning are in the README ("MD along depth").
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+__all__ = ["md_depth_indices", "md_model"]
+
+#: Diagnostic variables of the MD backend, per depth (NaN where MD did not run).
+MD_DEPTH_VARIABLES = ("md_stress", "md_pack_porosity", "md_porosity", "md_cement_saturation",
+                      "md_cement_overflow", "md_coordination_number")
+#: Diagnostic variables per MD model member and depth.
+MD_MODEL_VARIABLES = ("vp_error", "vs_error", "md_density", "md_wall_time")
+
+
+def md_labels(params) -> list[str]:
+    """Model labels of the MD members: ``md`` for one scheme, ``md_<scheme>`` for several."""
+    schemes = params["schemes"]
+    return ["md"] if len(schemes) == 1 else [f"md_{s}" for s in schemes]
+
+
+def md_depth_indices(depth, max_stress, params) -> np.ndarray:
+    """Indices of the profile depths MD runs at: the nearest profile depth to each of
+    ``depths``, or ``count`` depths spread evenly below the surface (where the effective stress
+    is > 0). Raises ValueError for a depth outside the profile or one that loads nothing."""
+    depth = np.asarray(depth, dtype=float)
+    loaded = np.flatnonzero(np.asarray(max_stress) > 0)
+    if loaded.size == 0:
+        raise ValueError("no depth of the profile bears an effective stress > 0")
+    if params["depths"] is not None:
+        if params["count"] is not None:
+            raise ValueError("give depths or count, not both")
+        want = np.asarray(params["depths"], dtype=float)
+        if want.size == 0:
+            raise ValueError("depths must list at least one depth")
+        lo, hi = depth.min(), depth.max()
+        if np.any((want < lo) | (want > hi)):
+            raise ValueError(f"depths must lie within the profile, {lo:g}-{hi:g} m; "
+                             f"got {want.tolist()}")
+        idx = np.argmin(np.abs(depth[None, :] - want[:, None]), axis=1)
+        if np.any(np.asarray(max_stress)[idx] <= 0):
+            raise ValueError(f"depth {depth[idx][np.asarray(max_stress)[idx] <= 0][0]:g} m "
+                             "bears no effective stress: the MD pack needs a load")
+        return np.unique(idx)
+    count = 3 if params["count"] is None else params["count"]
+    if not 1 <= count <= 200:
+        raise ValueError(f"count must lie in [1, 200]; got {count}")
+    pick = np.linspace(loaded[0], loaded[-1], count + 1)[1:] if count < loaded.size else \
+        np.arange(loaded[0], loaded[-1] + 1)
+    return np.unique(np.round(pick).astype(int))
+
+
+def _materials(grain, cement):
+    import md
+
+    from .elastic import poisson_ratio
+
+    nu = float(poisson_ratio(grain.K, grain.G))
+    g = md.GrainMaterial(grain.G * 1e9, nu, grain.rho * 1e3, md.QUARTZ.friction,
+                         md.QUARTZ.restitution)
+    vp = np.sqrt((cement.K + 4.0 / 3.0 * cement.G) / cement.rho) * 1e3
+    vs = np.sqrt(cement.G / cement.rho) * 1e3
+    return g, md.CementMaterial(float(vp), float(vs), cement.rho * 1e3)
+
+
+def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, fluid,
+             grain_size, params, *, workdir, progress=False):
+    """Run the MD members of a scene and saturate them.
+
+    Parameters
+    ----------
+    depth, present_stress, max_stress, cement_fraction : ndarray, shape (n,)
+        The profile: depth (m), present and largest effective stress (MPa), cement fraction.
+    grain, cement : rockcem.materials.Mineral
+    fluid : rockcem.materials.Fluid
+    grain_size : float
+        Grain diameter, mm.
+    params : dict
+        The scene's ``[models.md]`` table.
+    workdir : path
+        Default folder of the stage files (the table's ``workdir`` wins).
+
+    Returns
+    -------
+    (dict, dict, dict)
+        Per model label a namespace of ``K_dry, G_dry, K_sat, G_sat, vp, vs`` (GPa, km/s;
+        NaN off the MD depths); the per-depth diagnostics; per label the per-model
+        diagnostics (:data:`MD_DEPTH_VARIABLES`, :data:`MD_MODEL_VARIABLES`).
+    """
+    from md.along_depth import carry_down
+
+    from .bounds import hashin_shtrikman_average
+    from .fluids import gassmann
+
+    n = depth.size
+    idx = md_depth_indices(depth, max_stress, params)
+    unloaded = present_stress[idx] < max_stress[idx] * (1.0 - 1e-9)
+    if np.any(unloaded):
+        k = idx[unloaded][0]
+        raise ValueError(f"depth {depth[k]:g} m was uplifted (present effective stress "
+                         f"{present_stress[k]:.4g} MPa below its largest, "
+                         f"{max_stress[k]:.4g} MPa): the MD backend does not unload a pack yet")
+    for key, lo in (("resolution", 1.0), ("slab", 0.0)):
+        if not params[key] > lo:
+            raise ValueError(f"{key} must be > {lo:g}; got {params[key]}")
+    if not 0 <= params["radius_spread"] < 1:
+        raise ValueError(f"radius_spread must lie in [0, 1); got {params['radius_spread']}")
+    if len(params["size"]) != 3 or min(params["size"]) < 2:
+        raise ValueError(f"size must be three numbers >= 2 (grain diameters); got "
+                         f"{params['size']}")
+    r_max = grain_size / 2.0 * 1e-3
+    g_mat, c_mat = _materials(grain, cement)
+    work = Path(params["workdir"]) if params["workdir"] else Path(workdir)
+    res = carry_down(max_stress[idx], cement_fraction[idx], schemes=params["schemes"],
+                     size=params["size"],
+                     radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
+                     material=g_mat, cement=c_mat, seed=params["seed"],
+                     fall_stiffness_factor=params["fall_stiffness_factor"],
+                     resolution=params["resolution"],
+                     resolution_check=params["resolution_check"],
+                     interface=params["interface"], measure=params["measure"],
+                     slab=params["slab"], workdir=work, progress=progress)
+
+    def full(values):
+        out = np.full(n, np.nan)
+        out[idx] = values
+        return out
+
+    phi_pack = res.porosity_pack.values
+    sat = res.saturation.values[:, 0]            # S_c does not depend on the scheme
+    phi = phi_pack * (1.0 - sat)
+    per_depth = {"md_stress": full(res.stress_reached.values / 1e6),
+                 "md_pack_porosity": full(phi_pack), "md_porosity": full(phi),
+                 "md_cement_saturation": full(sat),
+                 "md_cement_overflow": full(res.cement_overflow.values[:, 0]),
+                 "md_coordination_number": full(res.coordination_number.values)}
+    # Mineral modulus of the MD sample's solid: grain and cement at its own fractions.
+    beta_c = phi_pack * sat / (1.0 - phi)
+    mineral = hashin_shtrikman_average([grain.K, cement.K], [grain.G, cement.G],
+                                       np.stack([1.0 - beta_c, beta_c], axis=-1))
+    models, per_model = {}, {}
+    for label, scheme in zip(md_labels(params), params["schemes"]):
+        r = res.sel(scheme=scheme)
+        rho = r.density.values / 1e3 + phi * fluid.rho            # g/cm3, saturated
+
+        def velocities(M, G, rho=rho):
+            K_dry = M - 4.0 / 3.0 * G
+            K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
+            return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho),
+                    np.sqrt(G / rho))
+
+        M, G = r.p_modulus.values / 1e9, r.shear_modulus.values / 1e9
+        dM, dG = r.p_modulus_error.values / 1e9, r.shear_modulus_error.values / 1e9
+        K_dry, G_dry, K_sat, vp, vs = velocities(M, G)
+        # Resolution errors carried to the velocities to first order (derivatives by a
+        # difference of 1e-4 of each error), combined in quadrature.
+        h = 1e-4
+        vp_m, vs_m = (np.abs(a - b) / h
+                      for a, b in zip(velocities(M + h * dM, G)[3:], (vp, vs)))
+        vp_g, vs_g = (np.abs(a - b) / h
+                      for a, b in zip(velocities(M, G + h * dG)[3:], (vp, vs)))
+        models[label] = SimpleNamespace(K_dry=full(K_dry), G_dry=full(G_dry),
+                                        K_sat=full(K_sat), G_sat=full(G_dry), vp=full(vp),
+                                        vs=full(vs))
+        per_model[label] = {"vp_error": full(np.hypot(vp_m, vp_g)),
+                            "vs_error": full(np.hypot(vs_m, vs_g)),
+                            "md_density": full(rho), "md_wall_time": full(r.wall_time.values)}
+    return models, per_depth, per_model

@@ -1,0 +1,95 @@
+"""The MD engine as a model of a burial scene ([models.md]): a tiny pack carried down three
+depths, cemented with burial's cement and saturated by Gassmann."""
+
+import numpy as np
+import pytest
+
+from rockcem.scene import run_scene, scene_from_dict
+
+
+def tiny(tmp_path, **md):
+    table = {"depths": [1000.0, 2500.0, 4000.0], "size": [3.0, 3.0, 8.0],
+             "resolution": 2.0, "resolution_check": 1.5, "workdir": str(tmp_path / "md"),
+             **md}
+    return scene_from_dict({"name": "tiny_md", "lithology": "sandstone",
+                            "path": {"max_depth": 4000.0, "depth_step": 100.0},
+                            "sandstone": {"start_temperature": 70.0},    # cement from 1833 m
+                            "models": {"hs_gassmann": {}, "md": table}})
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory):
+    path = tmp_path_factory.mktemp("md_scene")
+    return run_scene(tiny(path)), path
+
+
+def test_md_member_at_the_chosen_depths_only(result):
+    ds, _ = result
+    assert list(ds.model.values) == ["hs_gassmann", "md"]
+    vp = ds.vp.sel(model="md")
+    ran = np.isfinite(vp.values)
+    assert ds.depth.values[ran].tolist() == [1000.0, 2500.0, 4000.0]
+    assert np.all(np.isfinite(ds.vp.sel(model="hs_gassmann")))
+    for name in ("md_porosity", "md_cement_saturation", "md_stress"):
+        assert np.array_equal(np.isfinite(ds[name].values), ran)
+    # S_c is burial's cement over the pack's own porosity; the sample's porosity follows.
+    sat = ds.cement_fraction.values[ran] / ds.md_pack_porosity.values[ran]
+    np.testing.assert_allclose(ds.md_cement_saturation.values[ran], sat, rtol=1e-12)
+    np.testing.assert_allclose(ds.md_porosity.values[ran],
+                               ds.md_pack_porosity.values[ran] * (1 - sat), rtol=1e-12)
+    # The pack was compacted to at least each depth's largest effective stress.
+    assert np.all(ds.md_stress.values[ran] >= ds.pressure_effective.values[ran])
+    # Saturated: vp from the model's own K_sat, G and the saturated MD density.
+    md = ds.sel(model="md", depth=ds.depth[ran])
+    np.testing.assert_allclose(md.vp, np.sqrt((md.K_sat + 4 / 3 * md.G_sat) / md.md_density),
+                               rtol=1e-12)
+    assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
+    assert np.all(md.vp_error >= 0) and np.all(np.isfinite(md.vp_error))
+
+
+def test_md_velocity_rises_down_the_path(result):
+    """More stress and more cement at every deeper depth: the MD sample stiffens."""
+    ds, _ = result
+    vp = ds.vp.sel(model="md").dropna("depth")
+    assert np.all(np.diff(vp.values) > 0) and np.all(np.diff(ds.vs.sel(model="md")
+                                                             .dropna("depth").values) > 0)
+
+
+def test_uncemented_depth_gives_the_packs_static_moduli(result):
+    """Above the onset of quartz cement (S_c = 0) the MD dry moduli are those of the uncemented
+    pack, computed here directly from the stage file with md (rotations, static solves)."""
+    import glob
+
+    import md
+
+    ds, path = result
+    shallow = ds.sel(model="md", depth=1000.0)
+    assert float(shallow.md_cement_saturation) == 0.0
+    stress = float(ds.pressure_effective.sel(depth=1000.0))
+    [pack_file] = glob.glob(str(path / "md" / "*" / "pack" / f"compact_{stress:.6g}MPa.nc"))
+    pack = md.load_pack(pack_file)
+    system = md.acoustic_system(pack, slab_thickness=2 * pack.radii.max())
+    M = md.static_modulus(system, "p").modulus / 1e9
+    G = md.static_modulus(system, "s").modulus / 1e9
+    assert float(shallow.G_dry) == pytest.approx(G, rel=1e-9)
+    assert float(shallow.K_dry) == pytest.approx(M - 4 / 3 * G, rel=1e-9)
+
+
+def test_resumed_run_equals_the_first(result):
+    """A second run reads every stage file back (no MD runs) and gives the same Dataset."""
+    import xarray as xr
+
+    ds, path = result
+    again = run_scene(tiny(path))
+    xr.testing.assert_identical(again.drop_attrs(), ds.drop_attrs())
+
+
+def test_bad_md_tables(tmp_path):
+    with pytest.raises(ValueError, match="depths must lie within the profile"):
+        run_scene(tiny(tmp_path, depths=[5000.0]))
+    with pytest.raises(ValueError, match="unknown scene key models.md.shemes"):
+        tiny(tmp_path, shemes=["contact"])
+    with pytest.raises(ValueError, match="sandstone scenes only"):
+        scene_from_dict({"name": "s", "lithology": "shale", "models": {"md": {}}})
+    with pytest.raises(ValueError, match=r"schemes must be distinct names"):
+        run_scene(tiny(tmp_path, schemes=["glue"]))
