@@ -59,19 +59,23 @@ def _saved(path: Path, key: str):
         return ds.load()
 
 
-def _compacted(pack, stress, folder, chain_key, progress):
-    """The pack compacted to ``stress`` (Pa, vertical), saved as a stage file."""
+def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload=False):
+    """The pack compacted (or with ``unload`` unloaded) to ``stress`` (Pa, vertical), saved as
+    a stage file; returns it and the key of the chain of stages that made it."""
     from .protocols import compact
     from .state import load_pack, save_pack
 
-    key = _key({"previous": chain_key, "stress": float(stress)})
-    path = folder / f"compact_{stress / 1e6:.6g}MPa.nc"
+    if not unload and pack.metadata.get("stress_zz", -np.inf) >= stress:
+        return pack, chain_key          # already there (a depth of the same stress)
+    key = _key({"previous": chain_key, "stress": float(stress), "strain_step": strain_step,
+                "unload": unload})
+    path = folder / f"{'unload' if unload else 'compact'}_{stress / 1e6:.6g}MPa_{key[:6]}.nc"
     if path.exists():
         done = load_pack(path)
         if done.metadata.get("options_key") == key:
             return done, key
     out = compact(pack, target_stress=float(stress), stress_measure="stress_zz",
-                  progress=progress)
+                  strain_step=strain_step, unload=unload, progress=progress)
     out.metadata["options_key"] = key
     save_pack(out, path)
     return out, key
@@ -106,10 +110,12 @@ def _member(pack, saturation, scheme, omega, cement, options):
     return _moduli(system, options["measure"])
 
 
-def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 4.0, 12.0),
+def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("coating",),
+               size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
-               interface="facet", measure="static", slab=1.0, workdir, progress=False):
+               interface="facet", measure="static", slab=1.0, strain_step=5e-4,
+               unload_step=1e-4, workdir, progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
     Parameters
@@ -118,6 +124,11 @@ def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 
         Largest vertical effective stress each depth has borne, MPa, ``> 0``.
     cement_fraction : array_like, shape (n,)
         Cement volume per bulk volume at each depth, in [0, 1).
+    present_stress : array_like, shape (n,), optional
+        Present vertical effective stress, MPa, in (0, ``max_stress``]; default
+        ``max_stress``. Where it is lower (uplift), the pack compacted to ``max_stress`` is
+        unloaded to it (:func:`md.compact` with ``unload=True``) before it is cemented; the
+        carried pack itself stays at ``max_stress`` for the deeper depths.
     schemes : sequence of str
         Cementation schemes (:data:`SCHEMES`); default coating (quartz overgrowths).
     size : (float, float, float)
@@ -144,6 +155,10 @@ def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 
         diameters (``> 0``); the interior strain is fitted through the slabs between the two
         end slabs, so a sample needs at least 4 and should have 8 or more: on 4 slabs the two
         interior points give noise, not a strain.
+    strain_step, unload_step : float
+        Strain of each compaction and unloading increment (:func:`md.compact`); the stress
+        overshoots its target by up to about the P modulus times the step
+        (``stress_reached``).
     workdir : path
         Folder of the stage files.
     progress : bool
@@ -157,7 +172,8 @@ def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 
         ``saturation`` (S_c), ``cement_overflow`` (1 where the cement exceeds the pores),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
         core window), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
-        increment past the target), ``coordination_number``, ``wall_time`` (s).
+        increment past the target), ``stress_present`` (Pa, after unloading; the first
+        increment at or below the present stress), ``coordination_number``, ``wall_time`` (s).
     """
     import xarray as xr
     from tqdm.auto import tqdm
@@ -177,6 +193,14 @@ def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 
         raise ValueError(f"max_stress must be finite and > 0 MPa; got {stress.min():g} MPa")
     if not np.all(np.isfinite(frac) & (frac >= 0) & (frac < 1)):
         raise ValueError("cement_fraction must lie in [0, 1)")
+    now = stress if present_stress is None else \
+        np.atleast_1d(np.asarray(present_stress, dtype=float))
+    if now.shape != stress.shape or not np.all((now > 0) & (now <= stress * (1 + 1e-12))):
+        raise ValueError("present_stress must have max_stress's shape and lie in "
+                         "(0, max_stress] MPa")
+    for name, step in (("strain_step", strain_step), ("unload_step", unload_step)):
+        if not 0 < step < 0.05:
+            raise ValueError(f"{name} must lie in (0, 0.05); got {step}")
     schemes = tuple(schemes)
     bad = [s for s in schemes if s not in SCHEMES]
     if bad or not schemes or len(set(schemes)) != len(schemes):
@@ -210,26 +234,32 @@ def carry_down(max_stress, cement_fraction, *, schemes=("coating",), size=(4.0, 
                                                "saturation", "porosity", "wall_time")}
     overflow = np.zeros(shape, np.int8)
     per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
-                                                 "coordination_number")}
+                                                 "stress_present", "coordination_number")}
     order = np.argsort(stress, kind="stable")
     bar = tqdm(total=n * m, disable=not progress, desc="MD along depth", unit="member")
     for i in order:
-        pack, chain = _compacted(pack, stress[i] * 1e6, folder / "pack", chain, progress)
-        phi = porosity(pack)
+        pack, chain = _compacted(pack, stress[i] * 1e6, folder / "pack", chain, strain_step,
+                                 progress)
+        per_depth["stress_reached"][i] = pack.metadata["stress_zz"]
+        here, here_key = pack, chain
+        if now[i] < stress[i] * (1 - 1e-9):        # uplift: unload a copy, carry the pack on
+            here, here_key = _compacted(pack, now[i] * 1e6, folder / "pack", chain,
+                                        unload_step, progress, unload=True)
+        per_depth["stress_present"][i] = here.metadata["stress_zz"]
+        phi = porosity(here)
         per_depth["porosity_pack"][i] = phi
-        per_depth["stress_reached"][i] = pack.metadata.get("stress_zz", np.nan)
-        per_depth["coordination_number"][i] = coordination_number(pack)
+        per_depth["coordination_number"][i] = coordination_number(here)
         sat = frac[i] / phi
         for k, scheme in enumerate(schemes):
             overflow[i, k] = sat > 1.0
             s_c = min(sat, 1.0)
-            key = _key({"pack": chain, "saturation": s_c, "scheme": scheme,
+            key = _key({"pack": here_key, "saturation": s_c, "scheme": scheme,
                         "omegas": omegas, **options})
-            path = folder / "members" / f"{stress[i]:.6g}MPa_{scheme}_sc{s_c:.6g}.nc"
+            path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_sc{s_c:.6g}_{key[:6]}.nc"
             done = _saved(path, key)
             if done is None:
                 t0 = time.perf_counter()
-                res = [_member(pack, s_c, scheme, om, cement, options) for om in omegas]
+                res = [_member(here, s_c, scheme, om, cement, options) for om in omegas]
                 values = {"p_modulus": res[0][0], "shear_modulus": res[0][1],
                           "density": res[0][2],
                           "p_modulus_check": res[-1][0] if len(res) > 1 else np.nan,

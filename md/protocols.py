@@ -31,7 +31,7 @@ STRESS_MEASURES = ("stress_zz", "stress_mean")
 
 def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_measure=None,
             strain_step=2e-3, slab=1.0, drag=2000.0, rest_tolerance=1e-4, max_increments=400,
-            isotropic=False, progress=False) -> Pack:
+            isotropic=False, unload=False, progress=False) -> Pack:
     r"""Compact a settled pack between frozen end slabs to a stress (García & Medina, Sect. III A).
 
     The grains within ``slab`` largest diameters of the bottom and of the top are frozen. At each
@@ -50,6 +50,13 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
     With ``isotropic=True`` each increment also shrinks the periodic lengths in x and y (and
     the x, y positions with them) by ``strain_step``: an isotropic confinement, as Xu 2023
     (Sect. 2.3) prepares its bonded samples.
+
+    With ``unload=True`` each increment instead *lengthens* the sample by ``strain_step`` (the
+    grains relax as before, their tangential contact history kept, so friction makes the
+    unloading path stiffer than the loading one), and the run stops at the first increment
+    whose stress has fallen to ``target_stress`` or below: an uplifted sediment unloaded from
+    its largest burial stress. Unloading is stiff (the stress falls by about
+    :math:`M\,\Delta\varepsilon` per increment), so give it a small ``strain_step``.
 
     Parameters
     ----------
@@ -72,6 +79,8 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
         Kinetic over elastic energy at rest.
     max_increments : int
     isotropic : bool
+    unload : bool
+        Unload to ``target_stress`` instead of loading (``target_porosity`` not allowed).
     progress : bool
 
     Returns
@@ -89,6 +98,8 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
 
     if target_porosity is None and target_stress is None:
         raise ValueError("give target_stress (or target_porosity)")
+    if unload and (target_stress is None or target_porosity is not None):
+        raise ValueError("unload=True takes target_stress and no target_porosity")
     if target_porosity is not None and not MIN_TARGET_POROSITY <= target_porosity < 1:
         raise ValueError(f"target_porosity must lie in [{MIN_TARGET_POROSITY}, 1): elastic "
                          "grains cannot be compacted far below random close packing")
@@ -137,14 +148,16 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
     elapsed = 0.0
     from tqdm.auto import tqdm
 
-    bar = tqdm(total=max_increments, desc="compact", unit="step", disable=not progress)
+    bar = tqdm(total=max_increments, desc="unload" if unload else "compact", unit="step",
+               disable=not progress)
+    factor = 1.0 + strain_step if unload else 1.0 - strain_step
     for _ in range(max_increments):
         centre = 0.5 * (x[:, 2].min() + x[:, 2].max())
-        x[:, 2] = centre + (x[:, 2] - centre) * (1.0 - strain_step)
-        strain = 1.0 - (1.0 - strain) * (1.0 - strain_step)    # 1 - H / H_0, compounded
+        x[:, 2] = centre + (x[:, 2] - centre) * factor
+        strain = 1.0 - (1.0 - strain) * factor                  # 1 - H / H_0, compounded
         if isotropic:                        # periodic images move in with the grains
-            x[:, :2] *= 1.0 - strain_step
-            box = Box(box.lx * (1.0 - strain_step), box.ly * (1.0 - strain_step), box.lz_min,
+            x[:, :2] *= factor
+            box = Box(box.lx * factor, box.ly * factor, box.lz_min,
                       box.lz_max)
             old_pairs = nl.pairs
             nl = build_neighbors(x, r, box, skin)
@@ -177,7 +190,10 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
         record["stress_zz"].append(float(sigma[2, 2]))
         record["stress_mean"].append(float(np.trace(sigma)) / 3.0)
         bar.update(1)
-        if (target_porosity is not None and phi <= target_porosity) or \
+        if unload:
+            if record[stress_measure][-1] <= target_stress:
+                break
+        elif (target_porosity is not None and phi <= target_porosity) or \
                 (target_stress is not None and record[stress_measure][-1] >= target_stress):
             break
     else:
@@ -196,7 +212,7 @@ def compact(pack: Pack, *, target_stress=None, target_porosity=None, stress_meas
         "coordination_number": record["coordination_number"][-1],
         "target_stress": target_stress, "target_porosity": target_porosity,
         "stress_measure": stress_measure, "strain_step": strain_step, "slab": slab,
-        "isotropic": bool(isotropic), "compaction_steps": int(steps),
+        "isotropic": bool(isotropic), "unload": bool(unload), "compaction_steps": int(steps),
         "frozen_grains": np.flatnonzero(fixed).tolist()})
 
 

@@ -16,7 +16,7 @@ import numpy as np
 __all__ = ["md_depth_indices", "md_model"]
 
 #: Diagnostic variables of the MD backend, per depth (NaN where MD did not run).
-MD_DEPTH_VARIABLES = ("md_stress", "md_pack_porosity", "md_porosity", "md_cement_saturation",
+MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_porosity", "md_cement_saturation",
                       "md_cement_overflow", "md_coordination_number")
 #: Diagnostic variables per MD model member and depth.
 MD_MODEL_VARIABLES = ("vp_error", "vs_error", "md_density", "md_wall_time")
@@ -103,12 +103,10 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
 
     n = depth.size
     idx = md_depth_indices(depth, max_stress, params)
-    unloaded = present_stress[idx] < max_stress[idx] * (1.0 - 1e-9)
-    if np.any(unloaded):
-        k = idx[unloaded][0]
-        raise ValueError(f"depth {depth[k]:g} m was uplifted (present effective stress "
-                         f"{present_stress[k]:.4g} MPa below its largest, "
-                         f"{max_stress[k]:.4g} MPa): the MD backend does not unload a pack yet")
+    if np.any(present_stress[idx] <= 0):
+        k = idx[present_stress[idx] <= 0][0]
+        raise ValueError(f"depth {depth[k]:g} m bears no effective stress today "
+                         f"({present_stress[k]:.4g} MPa): the MD pack cannot be unloaded to it")
     for key, lo in (("resolution", 1.0), ("slab", 0.0)):
         if not params[key] > lo:
             raise ValueError(f"{key} must be > {lo:g}; got {params[key]}")
@@ -120,7 +118,9 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     r_max = grain_size / 2.0 * 1e-3
     g_mat, c_mat = _materials(grain, cement)
     work = Path(params["workdir"]) if params["workdir"] else Path(workdir)
-    res = carry_down(max_stress[idx], cement_fraction[idx], schemes=params["schemes"],
+    res = carry_down(max_stress[idx], cement_fraction[idx],
+                     present_stress=np.minimum(present_stress[idx], max_stress[idx]),
+                     schemes=params["schemes"],
                      size=params["size"],
                      radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
                      material=g_mat, cement=c_mat, seed=params["seed"],
@@ -139,6 +139,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     sat = res.saturation.values[:, 0]            # S_c does not depend on the scheme
     phi = phi_pack * (1.0 - sat)
     per_depth = {"md_stress": full(res.stress_reached.values / 1e6),
+                 "md_stress_present": full(res.stress_present.values / 1e6),
                  "md_pack_porosity": full(phi_pack), "md_porosity": full(phi),
                  "md_cement_saturation": full(sat),
                  "md_cement_overflow": full(res.cement_overflow.values[:, 0]),
@@ -164,10 +165,13 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         # Resolution errors carried to the velocities to first order (derivatives by a
         # difference of 1e-4 of each error), combined in quadrature.
         h = 1e-4
-        vp_m, vs_m = (np.abs(a - b) / h
-                      for a, b in zip(velocities(M + h * dM, G)[3:], (vp, vs)))
-        vp_g, vs_g = (np.abs(a - b) / h
-                      for a, b in zip(velocities(M, G + h * dG)[3:], (vp, vs)))
+        if params["resolution_check"]:
+            vp_m, vs_m = (np.abs(a - b) / h
+                          for a, b in zip(velocities(M + h * dM, G)[3:], (vp, vs)))
+            vp_g, vs_g = (np.abs(a - b) / h
+                          for a, b in zip(velocities(M, G + h * dG)[3:], (vp, vs)))
+        else:                                   # no coarser resolution: no error estimate
+            vp_m = vs_m = vp_g = vs_g = np.full(idx.size, np.nan)
         models[label] = SimpleNamespace(K_dry=full(K_dry), G_dry=full(G_dry),
                                         K_sat=full(K_sat), G_sat=full(G_dry), vp=full(vp),
                                         vs=full(vs))

@@ -66,7 +66,7 @@ def test_uncemented_depth_gives_the_packs_static_moduli(result):
     shallow = ds.sel(model="md", depth=1000.0)
     assert float(shallow.md_cement_saturation) == 0.0
     stress = float(ds.pressure_effective.sel(depth=1000.0))
-    [pack_file] = glob.glob(str(path / "md" / "*" / "pack" / f"compact_{stress:.6g}MPa.nc"))
+    [pack_file] = glob.glob(str(path / "md" / "*" / "pack" / f"compact_{stress:.6g}MPa_*.nc"))
     pack = md.load_pack(pack_file)
     system = md.acoustic_system(pack, slab_thickness=2 * pack.radii.max())
     M = md.static_modulus(system, "p").modulus / 1e9
@@ -93,3 +93,50 @@ def test_bad_md_tables(tmp_path):
         scene_from_dict({"name": "s", "lithology": "shale", "models": {"md": {}}})
     with pytest.raises(ValueError, match=r"schemes must be distinct names"):
         run_scene(tiny(tmp_path, schemes=["glue"]))
+
+
+def test_uplifted_depth_is_unloaded_to_its_present_stress(tmp_path):
+    """The shipped horizons example (600 m of uplift): the pack is compacted to the horizon's
+    largest effective stress, then unloaded to its present one before it is cemented."""
+    from rockcem.scene import read_scene_toml, scene_path
+
+    raw, _ = read_scene_toml("synthetic_basin_horizons")
+    raw["models"] = {"md": {"depths": [1500.0], "size": [3.0, 3.0, 8.0], "resolution": 2.0,
+                            "resolution_check": 0.0, "workdir": str(tmp_path / "md")}}
+    raw["outputs"] = ["pressure_effective", "vp", "vs"]
+    scene = scene_from_dict(raw, base_dir=scene_path("synthetic_basin_horizons").parent)
+    ds = run_scene(scene).sel(depth=1500.0)
+    from rockcem.runner import _Pipeline
+
+    pipe = _Pipeline(scene)
+    k = int(np.flatnonzero(pipe.now(pipe.path.depth) == 1500.0)[0])
+    largest, present = pipe.pressures.max_effective[k], pipe.pressures.effective[k]
+    assert present < 0.9 * largest                           # this horizon was uplifted
+    assert float(ds.md_stress) >= largest
+    # Unloaded to the first increment at or below the present stress (steps of 1e-4 strain).
+    assert present * 0.9 < float(ds.md_stress_present) <= present
+    assert np.isfinite(float(ds.vp.sel(model="md")))
+    assert np.isnan(float(ds.vp_error.sel(model="md")))      # no resolution_check, no error
+
+
+def test_unloading_lowers_the_stress_and_keeps_the_contacts(compacted_pack_md):
+    """md.compact(unload=True): the vertical stress falls to the target, the porosity rises by
+    a little (elastic grains: the unloading strain is about the stress drop over the P
+    modulus), and refused without a target stress."""
+    import md
+
+    loaded = compacted_pack_md
+    target = 0.5 * loaded.metadata["stress_zz"]
+    un = md.compact(loaded, target_stress=target, unload=True, strain_step=1e-4)
+    assert 0.7 * target < un.metadata["stress_zz"] <= target
+    assert 0 < un.metadata["porosity"] - loaded.metadata["porosity"] < 0.01
+    with pytest.raises(ValueError, match="unload=True takes target_stress"):
+        md.compact(loaded, target_porosity=0.35, unload=True)
+
+
+@pytest.fixture(scope="module")
+def compacted_pack_md(tmp_path_factory):
+    import md
+
+    pack = md.settle(size=(3, 3, 6), fall_stiffness_factor=1e-3, seed=4)
+    return md.compact(pack, target_stress=10e6)
