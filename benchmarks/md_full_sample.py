@@ -110,8 +110,8 @@ def main(argv=None):
             for interface in args.interfaces:
                 t0 = time.perf_counter()
                 system = stage("system", lambda: md.acoustic_system(
-                    pack, lat, cem, md.HARD_CEMENT, interface=interface), omega, scheme,
-                    interface, n_particles=lambda s: s.n_particles,
+                    pack, lat, cem, md.HARD_CEMENT, interface=interface, rotations=False),
+                    omega, scheme, interface, n_particles=lambda s: s.n_particles,
                     lattice_bonds=lambda s: s.n_lattice_bonds,
                     contact_bonds=lambda s: int(s.bond_i.size))
                 static = stage("static", lambda: md.static_modulus(system, "p"), omega, scheme,

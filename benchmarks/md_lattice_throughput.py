@@ -196,7 +196,7 @@ def pack_ratios(pack_path, repeat_steps):
            "pack_pore_fraction": lat.index.size / float(np.prod(lat.shape))}
     for sc, scheme in ((1.0, "coating"), (0.1, "contact")):
         cem = md.grow_cement(lat, sc, scheme)
-        system = md.acoustic_system(pack, lat, cem, md.HARD_CEMENT)
+        system = md.acoustic_system(pack, lat, cem, md.HARD_CEMENT, rotations=False)
         n_c = int(system.metadata["n_cement"])
         dt = 0.5 * 2.0 / system.max_frequency()
         # One pulse-test step, as md.pulse_test runs it (signals recorded every step).

@@ -149,7 +149,8 @@ def main(argv=None):
             t_grow = time.perf_counter() - t1
             for interface in args.interfaces:
                 t1 = time.perf_counter()
-                system = md.acoustic_system(pack, lat, cem, md.HARD_CEMENT, interface=interface)
+                system = md.acoustic_system(pack, lat, cem, md.HARD_CEMENT, interface=interface,
+                                            rotations=False)
                 t_sys = time.perf_counter() - t1
                 t1 = time.perf_counter()
                 st = md.static_modulus(system, "p")

@@ -41,7 +41,8 @@ def main(argv=None):
     pack = md.load_pack(_common.RESULTS / "md_omega_convergence_work" / "pack_4x4x12"
                         / "compact.nc")
     lat = md.cement_lattice(pack, args.omega)
-    system = md.acoustic_system(pack, lat, md.grow_cement(lat, 0.1, "pendular"))
+    system = md.acoustic_system(pack, lat, md.grow_cement(lat, 0.1, "pendular"),
+                                rotations=False)          # the threaded kernels translate only
     slab, n_slabs = system.slabs()
     n = system.n_particles
     flag = np.zeros(n, np.int8)

@@ -165,7 +165,8 @@ def main(argv=None):
         lat = lattices[protocol, omega]
         if (protocol, normal) not in uncemented:
             uncemented[protocol, normal] = _static_and_pulse(
-                md.acoustic_system(pack, normal_stiffness=normal, restitution=args.restitution),
+                md.acoustic_system(pack, normal_stiffness=normal, restitution=args.restitution,
+                                   rotations=False),
                 args.pulse)
         bare = uncemented[protocol, normal]
         for scheme in args.schemes:
@@ -178,7 +179,8 @@ def main(argv=None):
                 if key not in measured:
                     measured[key] = _static_and_pulse(md.acoustic_system(
                         pack, lat, cemented, cement, rule=lrule, interface=interface,
-                        normal_stiffness=normal, restitution=args.restitution), args.pulse)
+                        normal_stiffness=normal, restitution=args.restitution,
+                        rotations=False), args.pulse)
                 got = measured[key]
                 if (protocol, cname) not in theory:     # depends on the pack and cement only
                     theory[protocol, cname] = [1e3 * float(_common.cct_vp(

@@ -53,7 +53,7 @@ def main(argv=None):
             save_pack(pack, path)
         md = pack.metadata
         strain += md["record"]["strain"][-1]
-        system = acoustic_system(pack)
+        system = acoustic_system(pack, rotations=False)
         static = static_modulus(system, "p")
         row = dict(stage="compact", target_stress_MPa=target, strain=strain,
                    stress_zz_MPa=md["stress_zz"] / 1e6, stress_mean_MPa=md["stress_mean"] / 1e6,

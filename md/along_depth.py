@@ -11,10 +11,11 @@ What happens, in order (the reasoning is in the README, "MD along depth"):
    compacted between frozen end slabs (:func:`md.compact`, uniaxial strain, vertical stress
    :math:`\\sigma_{zz}`: a laterally confined basin loads its sediment vertically) to each
    depth's stress in turn, so the compaction increments are reused down the path.
-3. At each depth the compacted pack's pore cells are filled to the saturation
-   :math:`S_c = \\phi_{cem}/\\phi_{pack}` (cement volume per bulk volume over the pack's own
-   porosity) by each scheme (one growth order per scheme, :func:`md.cement_sweep`); a depth
-   whose cement exceeds the pores is cemented to :math:`S_c = 1` and flagged.
+3. At each depth the compacted pack is cemented by each scheme (one growth order per scheme,
+   :func:`cement_cells`) until the cement in its core window, where its porosity is measured,
+   is the depth's cement fraction: a saturation :math:`S_c = \\phi_{cem}/\\phi_{pack}`
+   (cement volume per bulk volume over the pack's own porosity); a depth whose cement exceeds
+   the pores is cemented full (:math:`S_c = 1`) and flagged.
 4. The cemented sample is linearised with rotations (:func:`md.acoustic_system`) and its static
    P (uniaxial strain) and S (simple shear) moduli are solved for (:func:`md.static_modulus`),
    the long-wave limit that logs see; ``measure="pulse"`` uses pulse-test velocities instead.
@@ -43,6 +44,14 @@ SCHEMES = ("contact", "coating", "pore_body", "pendular")
 MEASURES = ("static", "pulse")
 
 
+def _source_hash() -> str:
+    """Fingerprint of the md sources: a stage made by another engine is redone."""
+    h = hashlib.sha1()
+    for path in sorted(Path(__file__).parent.glob("*.py")):
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
 def _key(options: dict) -> str:
     return hashlib.sha1(json.dumps(options, sort_keys=True).encode()).hexdigest()[:16]
 
@@ -61,24 +70,31 @@ def _saved(path: Path, key: str):
 
 def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload=False):
     """The pack compacted (or with ``unload`` unloaded) to ``stress`` (Pa, vertical), saved as
-    a stage file; returns it and the key of the chain of stages that made it."""
+    a stage file; returns it, the key of the chain of stages that made it and its file (None
+    when ``pack`` already bears ``stress``: it is returned as it is)."""
     from .protocols import compact
     from .state import load_pack, save_pack
 
     if not unload and pack.metadata.get("stress_zz", -np.inf) >= stress:
-        return pack, chain_key          # already there (a depth of the same stress)
+        return pack, chain_key, None    # already there (a depth of the same stress)
     key = _key({"previous": chain_key, "stress": float(stress), "strain_step": strain_step,
                 "unload": unload})
     path = folder / f"{'unload' if unload else 'compact'}_{stress / 1e6:.6g}MPa_{key[:6]}.nc"
     if path.exists():
         done = load_pack(path)
         if done.metadata.get("options_key") == key:
-            return done, key
-    out = compact(pack, target_stress=float(stress), stress_measure="stress_zz",
-                  strain_step=strain_step, unload=unload, progress=progress)
+            return done, key, path
+    out = pack
+    if not unload and pack.metadata.get("stress_zz", 0.0) < 0.9 * stress:
+        out = compact(out, target_stress=0.9 * float(stress), stress_measure="stress_zz",
+                      strain_step=strain_step, progress=progress)
+    # The last tenth in steps a fifth as large: the stress overshoots by a fifth as much.
+    out = compact(out, target_stress=float(stress), stress_measure="stress_zz",
+                  strain_step=strain_step if unload else 0.2 * strain_step, unload=unload,
+                  progress=progress)
     out.metadata["options_key"] = key
     save_pack(out, path)
-    return out, key
+    return out, key, path
 
 
 def _moduli(system, measure):
@@ -94,15 +110,60 @@ def _moduli(system, measure):
     return rho * float(p.velocity) ** 2, rho * float(s.velocity) ** 2, rho
 
 
-def _member(pack, saturation, scheme, omega, cement, options):
-    """Moduli of the pack cemented to ``saturation`` by ``scheme`` at resolution ``omega``."""
+def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key):
+    """One member (a depth's pack, cement fraction, scheme) at every resolution: its moduli
+    saved to the stage file ``path`` and returned (a dict of floats; one task of
+    :func:`md._tasks.run_tasks`)."""
+    import xarray as xr
+
+    from .state import _atomic_netcdf, load_pack
+
+    t0 = time.perf_counter()
+    pack = load_pack(pack_file)
+    res = [_member(pack, fraction, scheme, om, cement, options) for om in omegas]
+    values = {"p_modulus": res[0][0], "shear_modulus": res[0][1], "density": res[0][2],
+              "p_modulus_check": res[-1][0] if len(res) > 1 else np.nan,
+              "shear_modulus_check": res[-1][1] if len(res) > 1 else np.nan,
+              "wall_time": time.perf_counter() - t0}
+    _atomic_netcdf(xr.Dataset({k: ((), v) for k, v in values.items()},
+                              attrs={"options_key": key}), path)
+    return values
+
+
+def cement_cells(pack, lat, fraction, scheme, *, seed=0):
+    """Pore cells of ``lat`` cemented by ``scheme`` until the cement in the pack's core window
+    (:func:`md.observe.core_window`, where its porosity is measured) fills ``fraction`` of the
+    window's volume (to the nearest cell): the growth order of :func:`md.growth.cement_order`
+    over the whole lattice, cut where its cells inside the window reach that count. (A
+    saturation of all the lattice's pore cells would put a different share in the window, whose
+    porosity differs from the end layers'.) Returns the cemented cells (bool, one per pore cell)
+    and whether the window's pores were too few (then all of them are cemented)."""
+    from .growth import cement_order
+    from .observe import core_window
+
+    lo, hi = core_window(pack)
+    z = lat.centres()[:, 2]
+    inside = (z >= lo) & (z < hi)
+    want = int(round(fraction * pack.box.lx * pack.box.ly * (hi - lo) / lat.cell_width**3))
+    cells = np.zeros(lat.index.size, dtype=bool)
+    if want == 0:
+        return cells, False
+    order = cement_order(lat, 1.0, scheme, seed=seed)
+    count = np.cumsum(inside[order])
+    overflow = want > count[-1]
+    cells[order[:int(np.searchsorted(count, min(want, count[-1]))) + 1]] = True
+    return cells, bool(overflow)
+
+
+def _member(pack, fraction, scheme, omega, cement, options):
+    """Moduli of the pack cemented to the cement ``fraction`` (volume per bulk volume of its
+    core window) by ``scheme`` at resolution ``omega``."""
     from .acoustic import acoustic_system
     from .cement import cement_lattice
-    from .growth import cement_sweep
 
-    if saturation > 0:
+    if fraction > 0:
         lat = cement_lattice(pack, omega)
-        cells = cement_sweep(lat, [saturation], scheme, seed=options["seed"])[0]
+        cells, _ = cement_cells(pack, lat, fraction, scheme, seed=options["seed"])
         system = acoustic_system(pack, lat, cells, cement, interface=options["interface"],
                                  slab_thickness=options["slab"] * 2 * pack.radii.max())
     else:
@@ -110,12 +171,18 @@ def _member(pack, saturation, scheme, omega, cement, options):
     return _moduli(system, options["measure"])
 
 
+def _store(out, i, k, values):
+    for var in ("p_modulus", "shear_modulus", "density", "p_modulus_check",
+                "shear_modulus_check", "wall_time"):
+        out[var][i, k] = values[var]
+
+
 def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("coating",),
                size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
                interface="facet", measure="static", slab=1.0, strain_step=5e-4,
-               unload_step=1e-4, workdir, progress=False):
+               unload_step=1e-4, workdir, scheduler=None, jobs=1, progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
     Parameters
@@ -161,15 +228,24 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         (``stress_reached``).
     workdir : path
         Folder of the stage files.
+    scheduler : str, optional
+        Where the members (depth, scheme) run once the pack has been carried down: None (this
+        process, or ``jobs`` local processes), ``"local"`` (a local dask cluster of ``jobs``
+        workers, at least 2) or a dask scheduler address (:mod:`md._tasks`; the workers must see
+        ``workdir``).
+    jobs : int
+        Local processes or local dask workers.
     progress : bool
 
     Returns
     -------
     xarray.Dataset
         Dimensions ``point`` (the depths, in the order given) and ``scheme``: ``p_modulus``,
-        ``shear_modulus`` (Pa), ``density`` (kg/m³, dry sample), their resolution errors
+        ``shear_modulus`` (Pa) and the same at the coarser resolution (``p_modulus_check``,
+        ``shear_modulus_check``), ``density`` (kg/m³, dry sample), their resolution errors
         ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``),
-        ``saturation`` (S_c), ``cement_overflow`` (1 where the cement exceeds the pores),
+        ``saturation`` (S_c = cement fraction / pack porosity, at most 1),
+        ``cement_overflow`` (1 where the cement exceeds the pores of the core window),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
         core window), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
         increment past the target), ``stress_present`` (Pa, after unloading; the first
@@ -182,7 +258,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     from .contact import QUARTZ
     from .observe import coordination_number, porosity
     from .protocols import prepare_pack
-    from .state import _atomic_netcdf
+    from ._tasks import run_tasks
+    from .cement import lattice_constants
 
     stress = np.atleast_1d(np.asarray(max_stress, dtype=float))
     frac = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
@@ -224,8 +301,9 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     pack = prepare_pack(folder / "pack", settle_options=settle_options, progress=progress)
     if not slab > 0:
         raise ValueError(f"slab must be > 0 diameters; got {slab}")
+    lattice_constants(cement, 1.0, rotations=True)     # the rotating lattice takes this cement
     options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
-               "cement": [cement.vp, cement.vs, cement.density]}
+               "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash()}
     omegas = [float(resolution)] + ([float(resolution_check)] if resolution_check else [])
     n, m = stress.size, len(schemes)
     shape = (n, m)
@@ -236,48 +314,44 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
                                                  "stress_present", "coordination_number")}
     order = np.argsort(stress, kind="stable")
-    bar = tqdm(total=n * m, disable=not progress, desc="MD along depth", unit="member")
-    for i in order:
-        pack, chain = _compacted(pack, stress[i] * 1e6, folder / "pack", chain, strain_step,
-                                 progress)
+    # 1. Carry the pack down, depth after depth (sequential: each stage starts from the last).
+    pack_file = folder / "pack" / "settle.nc"
+    todo, where = [], {}
+    for i in tqdm(order, disable=not progress, desc="MD packs", unit="depth"):
+        pack, chain, made = _compacted(pack, stress[i] * 1e6, folder / "pack", chain,
+                                       strain_step, progress)
+        pack_file = made or pack_file
         per_depth["stress_reached"][i] = pack.metadata["stress_zz"]
-        here, here_key = pack, chain
+        here, here_key, here_file = pack, chain, pack_file
         if now[i] < stress[i] * (1 - 1e-9):        # uplift: unload a copy, carry the pack on
-            here, here_key = _compacted(pack, now[i] * 1e6, folder / "pack", chain,
-                                        unload_step, progress, unload=True)
+            here, here_key, here_file = _compacted(pack, now[i] * 1e6, folder / "pack", chain,
+                                                   unload_step, progress, unload=True)
         per_depth["stress_present"][i] = here.metadata["stress_zz"]
         phi = porosity(here)
         per_depth["porosity_pack"][i] = phi
         per_depth["coordination_number"][i] = coordination_number(here)
-        sat = frac[i] / phi
         for k, scheme in enumerate(schemes):
-            overflow[i, k] = sat > 1.0
-            s_c = min(sat, 1.0)
-            key = _key({"pack": here_key, "saturation": s_c, "scheme": scheme,
+            overflow[i, k] = frac[i] > phi
+            out["saturation"][i, k] = min(frac[i] / phi, 1.0)
+            out["porosity"][i, k] = max(phi - frac[i], 0.0)
+            key = _key({"pack": here_key, "fraction": float(frac[i]), "scheme": scheme,
                         "omegas": omegas, **options})
-            path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_sc{s_c:.6g}_{key[:6]}.nc"
+            path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_c{frac[i]:.6g}_{key[:6]}.nc"
             done = _saved(path, key)
             if done is None:
-                t0 = time.perf_counter()
-                res = [_member(here, s_c, scheme, om, cement, options) for om in omegas]
-                values = {"p_modulus": res[0][0], "shear_modulus": res[0][1],
-                          "density": res[0][2],
-                          "p_modulus_check": res[-1][0] if len(res) > 1 else np.nan,
-                          "shear_modulus_check": res[-1][1] if len(res) > 1 else np.nan,
-                          "wall_time": time.perf_counter() - t0}
-                done = xr.Dataset({k: ((), v) for k, v in values.items()},
-                                  attrs={"options_key": key})
-                _atomic_netcdf(done, path)
-            for var in ("p_modulus", "shear_modulus", "density", "p_modulus_check",
-                        "shear_modulus_check", "wall_time"):
-                out[var][i, k] = float(done[var])
-            out["saturation"][i, k] = s_c
-            out["porosity"][i, k] = phi * (1.0 - s_c)
-            bar.update()
-    bar.close()
+                task = (str(here_file), float(frac[i]), scheme, omegas, cement, options,
+                        str(path), key)
+                todo.append(task)
+                where[path.name] = (i, k)
+            else:
+                _store(out, i, k, {v: float(done[v]) for v in done.data_vars})
+    # 2. The members are independent: serially, on local processes or on dask.
+    for task, values in run_tasks(_member_task, todo, scheduler=scheduler, jobs=jobs,
+                                  progress=progress, desc="MD members"):
+        _store(out, *where[Path(task[6]).name], values)
     scale = (resolution / resolution_check - 1.0) if resolution_check else np.nan
     dims = ("point", "scheme")
-    data = {k: (dims, v) for k, v in out.items() if not k.endswith("_check")}
+    data = {k: (dims, v) for k, v in out.items()}
     for k in ("p_modulus", "shear_modulus"):
         data[f"{k}_error"] = (dims, np.abs(out[k] - out[f"{k}_check"]) / scale)
     data["cement_overflow"] = (dims, overflow)

@@ -135,7 +135,8 @@ def lattice_constants(cement: CementMaterial, cell_width, rule="waves", *, rotat
 
     whence ``rule="waves"`` gives :math:`C_n = \\rho_c(V_p^2 - 2V_s^2)c_w = \\lambda_c c_w`
     and :math:`C = \\tfrac23\\rho_c(3V_s^2 - V_p^2)c_w^3 = \\tfrac23(\\mu_c - \\lambda_c)c_w^3`,
-    both non-negative for a Poisson ratio in [0, 1/4]. ``rule="paper"`` keeps its constants.
+    both non-negative for a Poisson ratio in [0, 1/4]. ``rule="paper"`` (the source's lattice,
+    translations only) refuses rotations.
 
     In both rules :math:`m_c = \\rho_c c_w^3` (eq. 9).
 
@@ -174,6 +175,9 @@ def lattice_constants(cement: CementMaterial, cell_width, rule="waves", *, rotat
         C = 2.0 * rho * (3.0 * vs2 - vp2) * cell_width**3 / 3.0
     elif rule == "waves":
         C = rho * (3.0 * vs2 - vp2) * cell_width**3 / 6.0
+    elif rule == "paper" and rotations:
+        raise ValueError("rule='paper' is the source's lattice of translations only (eqs. 6-9); "
+                         "use rotations=False with it, or rule='waves'")
     elif rule == "paper":
         C = 0.25 * rho * (3.0 * vs2 - vp2) * cell_width**3
     else:

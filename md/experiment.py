@@ -295,41 +295,24 @@ def _run_member(pack_file, params, member, pack_id, folder):
     return out
 
 
-def _run_members(todo, pack_files, params, pack_ids, folder, jobs, progress):
-    """Run the members not yet saved, on ``jobs`` processes (each member is independent; a
-    process keeps the lattice and growth of its last packs). Returns {member: result}."""
-    from tqdm.auto import tqdm
+def _run_members(todo, pack_files, params, pack_ids, folder, jobs, progress, scheduler=None):
+    """Run the members not yet saved, serially, on ``jobs`` local processes or on dask
+    (:func:`md._tasks.run_tasks`; each member is independent, a process keeps the lattice and
+    growth of its last packs). Returns {member: result}."""
+    from ._tasks import run_tasks
 
-    results = {}
     # The compacted sample first (a run stopped early has it whole), then by resolution, finest
     # first, so a process reuses its lattice; within those, longest first (the
     # longest-processing-time rule).
     todo = sorted(todo, key=lambda m: (m.sample != "compacted", m.sample,
                                        -(m.resolution or 0.0), -m.cost()))
-    bar = tqdm(total=len(todo), disable=not progress or not todo, desc="pulse tests",
-               unit="member")
-    if jobs <= 1 or len(todo) <= 1:
-        for m in todo:
-            results[m] = _run_member(pack_files[m.sample], params, m, pack_ids[m.sample],
-                                     folder)
-            bar.update()
-    else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        # "spawn": a fresh interpreter per process (no copy of a parent's numba threads).
-        with ProcessPoolExecutor(max_workers=min(jobs, len(todo)),
-                                 mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {pool.submit(_run_member, pack_files[m.sample], params, m,
-                                   pack_ids[m.sample], folder): m for m in todo}
-            for fut in as_completed(futures):
-                results[futures[fut]] = fut.result()
-                bar.update()
-    bar.close()
-    return results
+    tasks = [(pack_files[m.sample], params, m, pack_ids[m.sample], folder) for m in todo]
+    return {task[2]: result for task, result in run_tasks(
+        _run_member, tasks, scheduler=scheduler, jobs=jobs, progress=progress,
+        desc="pulse tests")}
 
 
-def run_md_scene(scene: dict, *, workdir=None, jobs=1, progress=False):
+def run_md_scene(scene: dict, *, workdir=None, jobs=1, scheduler=None, progress=False):
     """Run an MD scene: packs → cement → pulse tests → one ``xarray.Dataset``.
 
     Every pulse test (a *member*: sample, cement, scheme, saturation, resolution) is saved to
@@ -346,7 +329,11 @@ def run_md_scene(scene: dict, *, workdir=None, jobs=1, progress=False):
     workdir : path, optional
         Stage files; default the scene's ``workdir`` or ``<output stem>_work``.
     jobs : int
-        Processes for the pulse tests (default 1: in this process).
+        Processes for the pulse tests (default 1: in this process); with
+        ``scheduler="local"`` the number of dask workers.
+    scheduler : str, optional
+        Run the pulse tests on dask: ``"local"`` or a scheduler address
+        (:func:`md._tasks.run_tasks`).
     progress : bool
 
     Returns
@@ -397,7 +384,8 @@ def run_md_scene(scene: dict, *, workdir=None, jobs=1, progress=False):
             todo.append(m)
         else:
             results[m] = done
-    results.update(_run_members(todo, pack_files, p, pack_ids, folder, jobs, progress))
+    results.update(_run_members(todo, pack_files, p, pack_ids, folder, jobs, progress,
+                                scheduler))
 
     dims = ("sample", "cement", "scheme", "saturation")
     shape = tuple(len(p[f"{d}s"]) for d in dims)

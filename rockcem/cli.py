@@ -69,7 +69,8 @@ def _run_md(raw, args) -> int:
     out = args.output or scene["output"]
     # Stage files beside the output (<stem>_work), unless the scene names a folder.
     work = scene["md"]["workdir"] or Path(out).with_name(Path(out).stem + "_work")
-    ds = run_md_scene(scene, workdir=work, jobs=args.jobs, progress=not args.quiet)
+    ds = run_md_scene(scene, workdir=work, jobs=args.jobs, scheduler=args.scheduler,
+                      progress=not args.quiet)
     path = write_dataset(ds, out)
     if not args.quiet:
         print(_md_summary(ds))
@@ -134,7 +135,7 @@ def _run(args) -> int:
         return _run_md(raw, args)
     scene = scene_from_dict(raw, text=text, base_dir=scene_path(args.scene).parent)
     out = args.output or scene.output
-    ds = run_scene(scene, scheduler=args.scheduler, progress=not args.quiet)
+    ds = run_scene(scene, scheduler=args.scheduler, jobs=args.jobs, progress=not args.quiet)
     path = write_dataset(ds, out)
     if not args.quiet:
         print(_summary(ds))
@@ -299,10 +300,12 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene file or shipped scene name (see `rockcem scenes`)")
     p.add_argument("-o", "--output", help="netCDF file to write (default: the scene's output)")
     p.add_argument("--scheduler", default=None,
-                   help="run a sweep on dask: 'local' or a scheduler address (needs [dask])")
+                   help="run a sweep, or the MD members of a scene or an MD study, on dask: "
+                        "'local' or a scheduler address (needs [dask])")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     p.add_argument("-j", "--jobs", type=_positive_int, default=1,
-                   help="processes for the pulse tests of an MD scene (default 1)")
+                   help="processes for the MD members (pulse tests of an MD study, depths and "
+                        "schemes of [models.md]); workers of --scheduler local (default 1)")
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")

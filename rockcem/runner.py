@@ -41,8 +41,9 @@ def _section(name):
 class _Pipeline:
     """Lazily evaluated quantities of one scene member."""
 
-    def __init__(self, scene):
+    def __init__(self, scene, *, scheduler=None, jobs=1, progress=False):
         self.scene = scene
+        self.scheduler, self.jobs, self.progress = scheduler, jobs, progress
         self.sec = scene.sections
         self.lith = scene.sections[scene.lithology]
 
@@ -168,7 +169,8 @@ class _Pipeline:
                             self.pressures.max_effective, self.sandstone.cement_fraction,
                             minerals[0], minerals[1], fluid, self.lith["grain_size"],
                             self.sec["models.md"],
-                            workdir=out.with_name(out.stem + "_md_work"))
+                            workdir=out.with_name(out.stem + "_md_work"),
+                            scheduler=self.scheduler, jobs=self.jobs, progress=self.progress)
 
     def model(self, label):
         from . import models
@@ -258,11 +260,12 @@ def _calibration_attrs(scene):
     return {"calibration": line, "calibration_json": json.dumps(used, sort_keys=True)}
 
 
-def evaluate(scene):
-    """The Dataset of one scene member (no sweep)."""
+def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
+    """The Dataset of one scene member (no sweep); its MD members (if any) run on
+    ``scheduler`` / ``jobs`` (:func:`md._tasks.run_tasks`)."""
     from .variables import build_dataset
 
-    pipe = _Pipeline(scene)
+    pipe = _Pipeline(scene, scheduler=scheduler, jobs=jobs, progress=progress)
     depth = pipe.now(pipe.path.depth)
     data = {}
     for name in scene.outputs:
@@ -335,12 +338,13 @@ def _run_chunk(chunk):
     return [(index, evaluate(member)) for index, _coords, member in chunk]
 
 
-def run(scene, *, scheduler=None, progress=False):
-    """Run a scene and its sweep (serially, or on dask.distributed in chunks of members)."""
+def run(scene, *, scheduler=None, jobs=1, progress=False):
+    """Run a scene and its sweep (serially, or on dask.distributed in chunks of members); a
+    scene without a sweep runs its MD members there."""
     import xarray as xr
 
     if not scene.sweep:
-        return evaluate(scene)
+        return evaluate(scene, scheduler=scheduler, jobs=jobs, progress=progress)
     dims = [k.rpartition(".")[2] for k in scene.sweep]
     values = [scene.sweep[k] for k in scene.sweep]
     members = [(index, coords, member) for index, (coords, member)

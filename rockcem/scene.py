@@ -473,7 +473,7 @@ def shipped_scenes() -> dict[str, Path]:
 
 
 # ----------------------------------------------------------------------------- running
-def run_scene(scene: Scene, *, scheduler=None, progress=False):
+def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False):
     """Run a scene: burial → rock state → models → one ``xarray.Dataset``.
 
     Parameters
@@ -483,7 +483,12 @@ def run_scene(scene: Scene, *, scheduler=None, progress=False):
     scheduler : None, "local" or str, keyword-only
         Where to run the members of a sweep: ``None`` serially in this process; ``"local"`` on a
         new ``dask.distributed.LocalCluster``; any other string is the address of an existing
-        dask scheduler (``"tcp://host:8786"``). Needs the ``dask`` extra.
+        dask scheduler (``"tcp://host:8786"``). Needs the ``dask`` extra. A scene without a
+        sweep runs its MD members (``[models.md]``: depths and schemes, once the pack has been
+        carried down) there instead.
+    jobs : int, keyword-only
+        Local processes for the MD members when ``scheduler`` is None (workers of the local
+        cluster with ``scheduler="local"``); default 1.
     progress : bool, keyword-only
         Show a progress bar over the sweep members.
 
@@ -493,7 +498,7 @@ def run_scene(scene: Scene, *, scheduler=None, progress=False):
     """
     from .runner import run
 
-    return run(scene, scheduler=scheduler, progress=progress)
+    return run(scene, scheduler=scheduler, jobs=jobs, progress=progress)
 
 
 def write_dataset(ds, path) -> Path:

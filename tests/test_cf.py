@@ -22,11 +22,19 @@ CANONICAL_UNITS = {"depth": "m", "temperature_in_ground": "K"}
 SCENES = sorted(name for name in shipped_scenes() if "md" not in read_scene_toml(name)[0])
 
 
+#: A burial scene with the MD engine as a model runs a small pack at two depths here.
+TINY_MD = {"models.md.depths": [2000.0, 4000.0], "models.md.size": [3.0, 3.0, 8.0],
+           "models.md.resolution": 2.0, "models.md.resolution_check": 1.5}
+
+
 @pytest.fixture(scope="module", params=SCENES)
 def written(request, tmp_path_factory):
     scene = load_scene(request.param)
     if scene.sections["path"]["kind"] == "linear":       # a table history has its own depths
         scene = scene.replace(**{"path.depth_step": 500.0 if scene.sweep else 250.0})
+    if "md" in scene.models:
+        work = str(tmp_path_factory.mktemp("md_work"))
+        scene = scene.replace(**TINY_MD, **{"models.md.workdir": work})
     ds = run_scene(scene)
     return write_dataset(ds, tmp_path_factory.mktemp("cf") / f"{request.param}.nc")
 

@@ -32,15 +32,25 @@ def test_md_member_at_the_chosen_depths_only(result):
     assert np.all(np.isfinite(ds.vp.sel(model="hs_gassmann")))
     for name in ("md_porosity", "md_cement_saturation", "md_stress"):
         assert np.array_equal(np.isfinite(ds[name].values), ran)
-    # S_c is burial's cement over the pack's own porosity; the sample's porosity follows.
-    sat = ds.cement_fraction.values[ran] / ds.md_pack_porosity.values[ran]
-    np.testing.assert_allclose(ds.md_cement_saturation.values[ran], sat, rtol=1e-12)
-    np.testing.assert_allclose(ds.md_porosity.values[ran],
-                               ds.md_pack_porosity.values[ran] * (1 - sat), rtol=1e-12)
-    # The pack was compacted to at least each depth's largest effective stress.
-    assert np.all(ds.md_stress.values[ran] >= ds.pressure_effective.values[ran])
-    # Saturated: vp from the model's own K_sat, G and the saturated MD density.
+    # S_c is burial's cement over the pack's own porosity; the sample keeps the rest.
+    frac, pack = ds.cement_fraction.values[ran], ds.md_pack_porosity.values[ran]
+    np.testing.assert_allclose(ds.md_cement_saturation.values[ran], frac / pack, rtol=1e-12)
+    np.testing.assert_allclose(ds.md_porosity.values[ran], pack - frac, rtol=1e-12)
+    # Compacted to each depth's largest effective stress, overshooting by a few per cent
+    # (the last tenth in increments of 1e-4 strain).
+    target = ds.pressure_effective.values[ran]
+    assert np.all(ds.md_stress.values[ran] >= target)
+    assert np.all(ds.md_stress.values[ran] <= 1.05 * target)
+    # Saturated density of quartz grains and quartz cement of the catalogue with water
+    # (Carcione et al. 2022, eq. 24) at the sample's porosity.
+    from rockcem.materials import fluid, mineral
+
+    phi = ds.md_porosity.values[ran]
+    beta = frac / (1 - phi)
+    rho = (1 - phi) * (mineral("quartz").rho * (1 - beta) + mineral("quartz_cement").rho * beta) \
+        + phi * fluid("water").rho
     md = ds.sel(model="md", depth=ds.depth[ran])
+    np.testing.assert_allclose(md.md_density, rho, rtol=1e-12)
     np.testing.assert_allclose(md.vp, np.sqrt((md.K_sat + 4 / 3 * md.G_sat) / md.md_density),
                                rtol=1e-12)
     assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
@@ -75,12 +85,23 @@ def test_uncemented_depth_gives_the_packs_static_moduli(result):
     assert float(shallow.K_dry) == pytest.approx(M - 4 / 3 * G, rel=1e-9)
 
 
-def test_resumed_run_equals_the_first(result):
-    """A second run reads every stage file back (no MD runs) and gives the same Dataset."""
+def test_resumed_run_equals_the_first(result, monkeypatch):
+    """A second run reads every stage file back — no compaction, no solve — and gives the same
+    Dataset."""
     import xarray as xr
 
+    import md.protocols
+    import md.static
+
+    calls = []
+    for module, name in ((md.protocols, "compact"), (md.static, "static_modulus")):
+        real = getattr(module, name)
+        monkeypatch.setattr(module, name,
+                            lambda *a, _real=real, _name=name, **k: calls.append(_name)
+                            or _real(*a, **k))
     ds, path = result
     again = run_scene(tiny(path))
+    assert calls == []
     xr.testing.assert_identical(again.drop_attrs(), ds.drop_attrs())
 
 
@@ -140,3 +161,44 @@ def compacted_pack_md(tmp_path_factory):
 
     pack = md.settle(size=(3, 3, 6), fall_stiffness_factor=1e-3, seed=4)
     return md.compact(pack, target_stress=10e6)
+
+
+def test_md_members_on_dask_equal_the_serial_run(result):
+    """Once the pack is carried down, the members run on a local dask cluster of two workers
+    (the mechanism of --scheduler, which also takes a scheduler address) and give the serial
+    moduli to the bit."""
+    import shutil
+
+    import xarray as xr
+
+    ds, path = result
+    for members in path.glob("md/*/members"):
+        shutil.rmtree(members)
+    again = run_scene(tiny(path), scheduler="local", jobs=2)
+    keep = [v for v in ds.data_vars if v != "md_wall_time"]
+    xr.testing.assert_identical(again[keep].drop_attrs(), ds[keep].drop_attrs())
+    assert list(path.glob("md/*/members/*.nc"))
+
+
+@pytest.mark.parametrize("scheme", ["coating", "contact", "pore_body"])
+def test_cement_cells_fill_the_core_with_the_fraction(compacted_pack_md, scheme):
+    """md.along_depth.cement_cells: the cemented cells inside the core window hold the cement
+    fraction of its volume to within one cell, for every scheme; more cement than the window's
+    pores cements them all and says so."""
+    import md
+    from md.along_depth import cement_cells
+    from md.observe import core_window
+
+    pack = compacted_pack_md
+    lat = md.cement_lattice(pack, 2.0)
+    lo, hi = core_window(pack)
+    z = lat.centres()[:, 2]
+    inside = (z >= lo) & (z < hi)
+    volume = pack.box.lx * pack.box.ly * (hi - lo)
+    cell = lat.cell_width**3
+    for fraction in (0.02, 0.1, 0.2):
+        cells, overflow = cement_cells(pack, lat, fraction, scheme, seed=1)
+        assert not overflow
+        assert abs((cells & inside).sum() * cell - fraction * volume) <= cell
+    cells, overflow = cement_cells(pack, lat, 0.9, scheme, seed=1)
+    assert overflow and cells[inside].all()

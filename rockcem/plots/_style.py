@@ -111,7 +111,12 @@ def _label(name: str, ds=None, *, width: int | None = None) -> str:
 
 
 def _model_label(model) -> str:
-    return MODEL_LABELS.get(str(model), str(model))
+    model = str(model)
+    if model == "md":
+        return "MD grain pack"
+    if model.startswith("md_"):                 # one member per cement scheme
+        return f"MD grain pack, {model[3:].replace('_', ' ')} cement"
+    return MODEL_LABELS.get(model, model)
 
 
 def _model_colour(model, index: int) -> str:

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_style,
+from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_marker,
+                     _model_style,
                      _shade, _members, _sweep_legend, _sweep_text, _check_dataset, _require,
                      _figure)
 
@@ -127,9 +128,18 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                      for d, v in sel.items())
                     if model is not None:
                         sel["model"] = i
-                    ax.plot(da.isel(sel).transpose("depth").values, depth,
-                            **{**style, "color": colour},
-                            label=f"{name}, {text}" if text else name)
+                    values = da.isel(sel).transpose("depth").values
+                    label = f"{name}, {text}" if text else name
+                    ok = np.isfinite(values)
+                    if ok.sum() < 0.5 * ok.size:    # a model run at a few depths (MD): points
+                        err = (ds[f"{da.name}_error"].isel(sel).transpose("depth").values[ok]
+                               if f"{da.name}_error" in ds else None)
+                        ax.errorbar(values[ok], depth[ok], xerr=err, color=colour,
+                                    marker=_model_marker(model, i), markersize=4.5,
+                                    linestyle="none", elinewidth=0.9, capsize=2.0,
+                                    zorder=style["zorder"] + 1, label=label)
+                    else:
+                        ax.plot(values, depth, **{**style, "color": colour}, label=label)
             ax.set_xlabel(_label(da.name, ds, width=26))
             if len(arrays) > 1:
                 ax.set_title(f"({chr(ord('a') + k)})", loc="left", fontweight="bold")
