@@ -21,7 +21,8 @@ one diameter).
     the finest Omega (flagged per depth and modulus in the output).
 (b) Pack size in ``--sizes`` (default 3x3x8 4x4x12 5x5x16 6x6x20) at Omega ``--size-omega``
     (default 3, the scene's), ``--seeds`` settling seeds each (default 0 1 2), each pack in its
-    own fresh work folder. The sample-size error of one run is the standard deviation across
+    own fresh work folder (the largest size only the first ``--seeds-largest``, default 2, to
+    fit the time budget). The sample-size error of one run is the standard deviation across
     seeds; the reference is the largest size's seed mean, and the error of one run of a size
     is ``sqrt(bias^2 + std^2)`` (bias: its seed mean against the reference).
 
@@ -206,7 +207,7 @@ def size_summary(df, sizes):
     import pandas as pd
 
     order = {_size_label(s): k for k, s in enumerate(sizes)}
-    largest = max(order, key=order.get)
+    largest = _size_label(max(sizes, key=np.prod))
     out = []
     for (depth, scheme), g in df.groupby(["depth", "scheme"], sort=True):
         ref = {var: g[g["size"] == largest][var].mean() for var in MODULI}
@@ -256,10 +257,10 @@ def plot(summary, tag):
                     continue
                 err = g[f"{var}_error"].values
                 ok = err > 0
-                sat = g.saturation.values[0]
+                sat = summary[summary.depth == depth].saturation.values[0]
                 ax.plot(g.seconds_total.values[ok], err[ok], style, color=color, ms=5, lw=1,
-                        label=f"{depth:g} m (S_c {sat:.2f}): "
-                              + ("Omega" if study == "omega" else "size"))
+                        label=f"{depth:g} m, S_c {sat:.3f}: "
+                              + ("Omega" if study == "omega" else "pack size"))
                 for x, y, knob in zip(g.seconds_total.values[ok], err[ok], g.knob.values[ok]):
                     ax.annotate(knob, (x, y), textcoords="offset points", xytext=(3, 3),
                                 fontsize=7, color=color)
@@ -298,6 +299,8 @@ def main(argv=None):
     ap.add_argument("--size-omega", type=float, default=None,
                     help="Omega of the size study (default the scene's resolution)")
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    ap.add_argument("--seeds-largest", type=int, default=2,
+                    help="the largest size runs only the first N of --seeds (time budget)")
     ap.add_argument("--quick", action="store_true",
                     help="Omega 2 3 4, sizes 3x3x8 4x4x12, seeds 0 1")
     ap.add_argument("--keep-work", action="store_true", help="keep the stage files")
@@ -308,6 +311,7 @@ def main(argv=None):
         return replot(args.tag)
     if args.quick:
         args.omega, args.sizes, args.seeds = [2, 3, 4], [(3, 3, 8), (4, 4, 12)], [0, 1]
+        args.seeds_largest = 2
     _common.announce_source()
     md_attrs = _common.md_source_attrs()
     t_start = time.perf_counter()
@@ -330,7 +334,8 @@ def main(argv=None):
             rows += [dict(r, study="omega") for r in runs(omega_size, omega_seed, omega)]
         print(f"(b) pack size at Omega {size_omega:g}", flush=True)
         for size in args.sizes:
-            for seed in args.seeds:
+            last = size == max(args.sizes, key=np.prod)
+            for seed in args.seeds[:args.seeds_largest] if last else args.seeds:
                 rows += [dict(r, study="size") for r in runs(size, seed, size_omega)]
     finally:
         if args.keep_work:
@@ -344,7 +349,7 @@ def main(argv=None):
     attrs = _common.environment_attrs(
         benchmark=NAME, scene=args.scene, depths=" ".join(f"{z:g}" for z in state["depth"]),
         omega_size=_size_label(omega_size), omega_seed=omega_seed, size_omega=size_omega,
-        seeds=" ".join(map(str, args.seeds)), schemes=" ".join(settings["schemes"]),
+        seeds=" ".join(map(str, args.seeds)), seeds_largest=args.seeds_largest, schemes=" ".join(settings["schemes"]),
         interface=settings["interface"], measure=settings["measure"], slab=settings["slab"],
         radius_range_m=" ".join(f"{r:.4g}" for r in settings["radius_range"]),
         benchmark_wall_seconds=wall, **md_attrs)

@@ -19,7 +19,8 @@ __all__ = ["md_depth_indices", "md_model"]
 MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_porosity",
                       "md_cement_saturation", "md_cement_overflow", "md_coordination_number")
 #: Diagnostic variables per MD model member and depth.
-MD_MODEL_VARIABLES = ("vp_error", "vs_error", "md_density", "md_wall_time")
+MD_MODEL_VARIABLES = ("vp_error_resolution", "vs_error_resolution", "vp_error_sample",
+                      "vs_error_sample", "md_density", "md_wall_time")
 
 
 def md_labels(params) -> list[str]:
@@ -129,67 +130,79 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     r_max = grain_size / 2.0 * 1e-3
     g_mat, c_mat = _materials(grain, cement)
     work = Path(params["workdir"]) if params["workdir"] else Path(workdir)
-    res = carry_down(max_stress[idx], cement_fraction[idx],
-                     present_stress=np.minimum(present_stress[idx], max_stress[idx]),
-                     schemes=params["schemes"],
-                     size=params["size"],
-                     radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
-                     material=g_mat, cement=c_mat, seed=params["seed"],
-                     fall_stiffness_factor=params["fall_stiffness_factor"],
-                     resolution=params["resolution"],
-                     resolution_check=params["resolution_check"],
-                     interface=params["interface"], measure=params["measure"],
-                     slab=params["slab"], workdir=work, scheduler=scheduler, jobs=jobs,
-                     progress=progress)
+    if not 1 <= params["samples"] <= 50:
+        raise ValueError(f"samples must lie in [1, 50]; got {params['samples']}")
+    runs = [carry_down(max_stress[idx], cement_fraction[idx],
+                       present_stress=np.minimum(present_stress[idx], max_stress[idx]),
+                       schemes=params["schemes"], size=params["size"],
+                       radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
+                       material=g_mat, cement=c_mat, seed=params["seed"] + k,
+                       fall_stiffness_factor=params["fall_stiffness_factor"],
+                       resolution=params["resolution"],
+                       resolution_check=params["resolution_check"],
+                       interface=params["interface"], measure=params["measure"],
+                       slab=params["slab"], workdir=work, scheduler=scheduler, jobs=jobs,
+                       progress=progress)
+            for k in range(params["samples"])]
 
     def full(values):
         out = np.full(n, np.nan)
         out[idx] = values
         return out
 
-    phi_pack = res.porosity_pack.values
-    sat = res.saturation.values[:, 0]            # neither depends on the scheme
-    phi = res.porosity.values[:, 0]
-    per_depth = {"md_stress": full(res.stress_reached.values / 1e6),
-                 "md_stress_present": full(res.stress_present.values / 1e6),
-                 "md_pack_porosity": full(phi_pack), "md_porosity": full(phi),
-                 "md_cement_saturation": full(sat),
-                 "md_cement_overflow": full(res.cement_overflow.values[:, 0]),
-                 "md_coordination_number": full(res.coordination_number.values)}
-    # The MD sample's solid: grain and cement at its own fractions (the cement its core holds).
+    def stack(name, scheme=None):
+        """A variable of every sample, shape (samples, depths)."""
+        return np.stack([(r[name] if scheme is None else r[name].sel(scheme=scheme)).values
+                         for r in runs])
+
+    scheme0 = params["schemes"][0]              # porosity and S_c do not depend on the scheme
+    phi_pack, phi = stack("porosity_pack"), stack("porosity", scheme0)
+    per_depth = {"md_stress": full(stack("stress_reached").mean(0) / 1e6),
+                 "md_stress_present": full(stack("stress_present").mean(0) / 1e6),
+                 "md_pack_porosity": full(phi_pack.mean(0)), "md_porosity": full(phi.mean(0)),
+                 "md_cement_saturation": full(stack("saturation", scheme0).mean(0)),
+                 "md_cement_overflow": full(stack("cement_overflow", scheme0).max(0)),
+                 "md_coordination_number": full(stack("coordination_number").mean(0))}
+    # Each sample's solid: grain and cement at its own fractions (the cement its core holds).
     beta_c = (phi_pack - phi) / (1.0 - phi)
     mineral = hashin_shtrikman_average([grain.K, cement.K], [grain.G, cement.G],
                                        np.stack([1.0 - beta_c, beta_c], axis=-1))
     # Saturated bulk density of the core window (eq. 24 of Carcione et al. 2022) with the
     # porosity Gassmann is given (the engine's sample density also counts the end layers).
     rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * fluid.rho
+
+    def velocities(M, G):
+        # The pack is transversely isotropic (compacted along z): M is its vertical C33 and G
+        # its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack anisotropic
+        # Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
+        K_dry = M - 4.0 / 3.0 * G
+        K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
+        return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))
+
+    count = len(runs)
     models, per_model = {}, {}
     for label, scheme in zip(md_labels(params), params["schemes"]):
-        r = res.sel(scheme=scheme)
-
-        def velocities(M, G):
-            # The pack is transversely isotropic (compacted along z): M is its vertical
-            # C33 and G its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack
-            # anisotropic Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
-            K_dry = M - 4.0 / 3.0 * G
-            K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
-            return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho),
-                    np.sqrt(G / rho))
-
-        M, G = r.p_modulus.values / 1e9, r.shear_modulus.values / 1e9
-        K_dry, G_dry, K_sat, vp, vs = velocities(M, G)
+        K_dry, G_dry, K_sat, vp, vs = velocities(stack("p_modulus", scheme) / 1e9,
+                                                 stack("shear_modulus", scheme) / 1e9)
         if params["resolution_check"]:
             # First-order Richardson estimate on the velocities themselves (the P and S
-            # moduli of one resolution change together).
-            vp_c, vs_c = velocities(r.p_modulus_check.values / 1e9,
-                                    r.shear_modulus_check.values / 1e9)[3:]
+            # moduli of one resolution change together), averaged over the samples.
+            vp_c, vs_c = velocities(stack("p_modulus_check", scheme) / 1e9,
+                                    stack("shear_modulus_check", scheme) / 1e9)[3:]
             scale = params["resolution"] / params["resolution_check"] - 1.0
-            vp_err, vs_err = np.abs(vp - vp_c) / scale, np.abs(vs - vs_c) / scale
+            vp_res = (np.abs(vp - vp_c) / scale).mean(0)
+            vs_res = (np.abs(vs - vs_c) / scale).mean(0)
         else:                                   # no coarser resolution: no error estimate
-            vp_err = vs_err = np.full(idx.size, np.nan)
-        models[label] = SimpleNamespace(K_dry=full(K_dry), G_dry=full(G_dry),
-                                        K_sat=full(K_sat), G_sat=full(G_dry), vp=full(vp),
-                                        vs=full(vs))
-        per_model[label] = {"vp_error": full(vp_err), "vs_error": full(vs_err),
-                            "md_density": full(rho), "md_wall_time": full(r.wall_time.values)}
+            vp_res = vs_res = np.full(idx.size, np.nan)
+        # Sample-size error: standard error of the mean over the independent packs.
+        vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
+                          np.full(idx.size, np.nan) for v in (vp, vs))
+        models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
+                                        K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
+                                        vp=full(vp.mean(0)), vs=full(vs.mean(0)))
+        per_model[label] = {"vp_error_resolution": full(vp_res),
+                            "vs_error_resolution": full(vs_res),
+                            "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
+                            "md_density": full(rho.mean(0)),
+                            "md_wall_time": full(stack("wall_time", scheme).sum(0))}
     return models, per_depth, per_model

@@ -146,6 +146,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "radius_spread": (0.1, "number", "1",
                           "grain radii uniform in [(1 - spread) D/2, D/2], D = grain_size"),
         "seed": (0, "integer", "", "random seed of settling and pore-body cement"),
+        "samples": (1, "integer", "", "independent packs (seeds seed, seed + 1, ...): the "
+                    "velocities are their mean, with the standard error as sample-size error"),
         "resolution": (3.0, "number", "cells per radius", "cement lattice resolution Omega"),
         "resolution_check": (2.0, "number", "cells per radius",
                              "coarser Omega for the resolution error (0 = none)"),

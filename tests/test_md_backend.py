@@ -54,7 +54,8 @@ def test_md_member_at_the_chosen_depths_only(result):
     np.testing.assert_allclose(md.vp, np.sqrt((md.K_sat + 4 / 3 * md.G_sat) / md.md_density),
                                rtol=1e-12)
     assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
-    assert np.all(md.vp_error >= 0) and np.all(np.isfinite(md.vp_error))
+    assert np.all(md.vp_error_resolution >= 0) and np.all(np.isfinite(md.vp_error_resolution))
+    assert np.all(np.isnan(md.vp_error_sample))              # one sample: no spread
 
 
 def test_md_velocity_rises_down_the_path(result):
@@ -137,7 +138,7 @@ def test_uplifted_depth_is_unloaded_to_its_present_stress(tmp_path):
     # Unloaded to the first increment at or below the present stress (steps of 1e-4 strain).
     assert present * 0.9 < float(ds.md_stress_present) <= present
     assert np.isfinite(float(ds.vp.sel(model="md")))
-    assert np.isnan(float(ds.vp_error.sel(model="md")))      # no resolution_check, no error
+    assert np.isnan(float(ds.vp_error_resolution.sel(model="md")))  # no resolution_check
 
 
 def test_unloading_lowers_the_stress_and_keeps_the_contacts(compacted_pack_md):
@@ -202,3 +203,18 @@ def test_cement_cells_fill_the_core_with_the_fraction(compacted_pack_md, scheme)
         assert abs((cells & inside).sum() * cell - fraction * volume) <= cell
     cells, overflow = cement_cells(pack, lat, 0.9, scheme, seed=1)
     assert overflow and cells[inside].all()
+
+
+def test_samples_average_independent_packs(result):
+    """samples = 2: the velocities are the mean of the packs of seeds 0 and 1 (each run alone
+    as a one-sample scene) and the sample-size error the standard error of that mean,
+    |v0 - v1| / 2."""
+    ds, path = result
+    one = run_scene(tiny(path, seed=1)).sel(model="md")
+    both = run_scene(tiny(path, samples=2)).sel(model="md")
+    zero = ds.sel(model="md")
+    for v in ("vp", "vs"):
+        np.testing.assert_allclose(both[v], (zero[v] + one[v]) / 2, rtol=1e-12)
+        np.testing.assert_allclose(both[f"{v}_error_sample"], abs(zero[v] - one[v]) / 2,
+                                   rtol=1e-12)
+    assert np.all(np.isfinite(both.vp_error_sample.dropna("depth")))

@@ -110,6 +110,7 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
         fig = _figure(fig, (1.0 + 2.0 * len(variables) + (0.6 if temperature_axis else 0.0),
                             5.2))
         axes = np.atleast_1d(fig.subplots(1, len(variables), sharey=True, squeeze=False)[0])
+        points = set()                  # models drawn as points with error bars
         for k, (ax, da) in enumerate(zip(axes, arrays, strict=True)):
             series = [(m, i) for i, m in enumerate(models)] if "model" in da.dims else [(None, 0)]
             for model, i in series:
@@ -132,8 +133,8 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                     label = f"{name}, {text}" if text else name
                     ok = np.isfinite(values)
                     if ok.sum() < 0.5 * ok.size:    # a model run at a few depths (MD): points
-                        err = (ds[f"{da.name}_error"].isel(sel).transpose("depth").values[ok]
-                               if f"{da.name}_error" in ds else None)
+                        points.add(model)
+                        err = _error_bars(ds, da.name, sel, ok)
                         ax.errorbar(values[ok], depth[ok], xerr=err, color=colour,
                                     marker=_model_marker(model, i), markersize=4.5,
                                     linestyle="none", elinewidth=0.9, capsize=2.0,
@@ -151,7 +152,10 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
         if temperature_axis:
             _temperature_axes(axes[-1], ds, members)
         if any("model" in da.dims for da in arrays):
-            fig.legend(handles=[Line2D([], [], **{k: v for k, v in
+            fig.legend(handles=[Line2D([], [], color=_model_style(m, i, len(models))["color"],
+                                       marker=_model_marker(m, i), linestyle="none",
+                                       label=_model_label(m)) if m in points else
+                                Line2D([], [], **{k: v for k, v in
                                                   _model_style(m, i, len(models)).items()
                                                   if k in ("color", "linestyle", "linewidth")},
                                        label=_model_label(m))
@@ -160,6 +164,15 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                                              else 2))
         _sweep_legend(fig, dims, members, ds, held)
     return fig
+
+
+def _error_bars(ds, name, sel, ok):
+    """Error bars of a variable drawn as points: its resolution and sample-size errors
+    (``<name>_error_resolution``, ``<name>_error_sample``, where present and finite) in
+    quadrature; None without either."""
+    parts = [np.nan_to_num(ds[f"{name}_error_{kind}"].isel(sel).transpose("depth").values[ok])
+             for kind in ("resolution", "sample") if f"{name}_error_{kind}" in ds]
+    return np.sqrt(sum(p**2 for p in parts)) if parts else None
 
 
 def _alike(da, dim) -> bool:
