@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-__all__ = ["md_depth_indices", "md_model"]
+__all__ = ["md_depth_indices", "md_model", "md_warnings"]
 
 #: Diagnostic variables of the MD backend, per depth (NaN where MD did not run).
 MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_porosity",
@@ -206,3 +206,22 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                             "md_density": full(rho.mean(0)),
                             "md_wall_time": full(stack("wall_time", scheme).sum(0))}
     return models, per_depth, per_model
+
+
+def md_warnings(depth, porosity, per_depth) -> list[str]:
+    """Lines for the Dataset's ``validity_warnings``: where the MD sample is more porous than
+    burial's rock (elastic spheres do not compact to a buried sandstone's intergranular
+    volume) and where burial's cement overfilled the pack's pores."""
+    ran = np.isfinite(per_depth["md_porosity"])
+    lines = []
+    gap = per_depth["md_porosity"][ran] - np.asarray(porosity)[ran]
+    if np.any(gap > 0.02):
+        lines.append(f"MD model at {depth[ran].min():g}–{depth[ran].max():g} m: the MD sample's "
+                     f"porosity exceeds burial's by {gap.min():.3f}–{gap.max():.3f} (elastic "
+                     "spheres do not compact to a buried sandstone's intergranular volume); its "
+                     "velocities are those of the more porous rock (md_porosity)")
+    over = ran & (np.nan_to_num(per_depth["md_cement_overflow"]) > 0)
+    if np.any(over):
+        lines.append(f"MD model at {', '.join(f'{d:g}' for d in depth[over])} m: burial's cement "
+                     "exceeds the MD pack's pores; the pores were filled (md_cement_overflow)")
+    return lines

@@ -298,6 +298,10 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
                      for m in labels]))
     attrs = _global_attrs(scene)
     warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
+    if "md" in pipe.__dict__:
+        from ._md_backend import md_warnings
+
+        warnings += md_warnings(depth, pipe.porosity, pipe.md[1])
     if warnings:
         attrs["validity_warnings"] = "\n".join(warnings)
     ds = build_dataset(data, coords, attrs)

@@ -56,6 +56,10 @@ def test_md_member_at_the_chosen_depths_only(result):
     assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
     assert np.all(md.vp_error_resolution >= 0) and np.all(np.isfinite(md.vp_error_resolution))
     assert np.all(np.isnan(md.vp_error_sample))              # one sample: no spread
+    # The porosity gap is said, with its range.
+    gap = ds.md_porosity.values[ran] - ds.porosity.values[ran]
+    assert (f"porosity exceeds burial's by {gap.min():.3f}–{gap.max():.3f}"
+            in ds.attrs["validity_warnings"])
 
 
 def test_md_velocity_rises_down_the_path(result):
