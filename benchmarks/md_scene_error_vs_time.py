@@ -17,8 +17,9 @@ one diameter).
     reused across Omega on purpose (each Omega cements and solves the same compacted stages),
     so the Omega error is that of the lattice alone; the pack's time is counted in every
     Omega's total. Reference: the three-point Richardson limit of the three finest Omega
-    (``md_omega_convergence.richardson``) where the last changes shrink with one sign, else
-    the finest Omega (flagged per depth and modulus in the output).
+    (``md_omega_convergence.richardson``) where the sequence is asymptotic (its last three
+    changes shrink with one sign, order 0.5-3), else the finest Omega (flagged per depth and
+    modulus in the output; the errors are then lower bounds).
 (b) Pack size in ``--sizes`` (default 3x3x8 4x4x12 5x5x16 6x6x20) at Omega ``--size-omega``
     (default 3, the scene's), ``--seeds`` settling seeds each (default 0 1 2), each pack in its
     own fresh work folder (the largest size only the first ``--seeds-largest``, default 2, to
@@ -37,7 +38,9 @@ Output: ``results/md_scene_error_vs_time[_<tag>].{csv,nc,png}`` (one row per run
 depth, seed) and ``results/md_scene_error_vs_time_summary[_<tag>].csv`` (per study, knob and
 depth: moduli, errors against the reference, seed spread, wall time).
 Run: ``python benchmarks/md_scene_error_vs_time.py [--quick]`` (``--quick``: Omega 2 3 4,
-sizes 3x3x8 4x4x12, seeds 0 1; a few minutes).
+sizes 3x3x8 4x4x12, seeds 0 1; a few minutes). ``--example [3:2 4:3]`` instead times the
+shipped MD example (``carcione2022_sandstone_md``) at those resolution:check pairs
+(``results/md_scene_error_vs_time_example.csv``): the cost the defaults must fit.
 """
 
 from __future__ import annotations
@@ -76,7 +79,7 @@ def burial_states(scene_name, depths):
     """Effective stress (MPa), cement fraction and porosity of the scene at the nearest profile
     depths, and the scene; the MD settings of the scene runner (schema defaults, the scene's
     grain size and materials)."""
-    from rockcem._md_backend import _materials      # the runner's own mapping, not a copy
+    from rockcem._md_backend import _materials  # the runner's own mapping, not a copy
     from rockcem.materials import mineral
     from rockcem.scene import SCHEMA, load_scene, run_scene
 
@@ -111,13 +114,10 @@ class Runs:
         self.state, self.settings, self.root = state, settings, root
         self.folders, self.pack_seconds, self.done = {}, {}, {}
 
-    def __call__(self, size, seed, omega, schemes=None):
+    def __call__(self, size, seed, omega):
         from md.along_depth import carry_down
 
-        settings = dict(self.settings)
-        if schemes is not None:
-            settings["schemes"] = tuple(schemes)
-        key = (tuple(size), int(seed), float(omega), settings["schemes"])
+        key = (tuple(size), int(seed), float(omega))
         if key in self.done:
             return self.done[key]
         pack_key = (tuple(size), int(seed))
@@ -128,7 +128,7 @@ class Runs:
         t0 = time.perf_counter()
         res = carry_down(self.state["stress_MPa"], self.state["cement_fraction"], size=size,
                          seed=int(seed), resolution=float(omega), resolution_check=0.0,
-                         workdir=self.folders[pack_key], **settings)
+                         workdir=self.folders[pack_key], **self.settings)
         total = time.perf_counter() - t0
         members = float(res.wall_time.sum())
         if pack_key not in self.pack_seconds:       # settled and compacted in this call
@@ -164,20 +164,39 @@ class Runs:
         return rows
 
 
-def omega_summary(df):
-    """Per depth and scheme: each Omega's moduli against the reference (Richardson limit of the
-    three finest Omega where the last changes shrink with one sign, else the finest Omega)."""
-    import pandas as pd
+#: A Richardson limit is the reference only inside this range of orders (first order is what
+#: the single cemented contact shows, md_single_contact.py; 1.6 the pendular pack,
+#: md_omega_convergence.py); an order far outside it extrapolates noise.
+CREDIBLE_ORDER = (0.5, 3.0)
+
+
+def omega_reference(omega, value):
+    """Reference of an Omega sequence: ``(value, kind, order)``. The three-point Richardson
+    limit of the three finest Omega (``md_omega_convergence.richardson``) where the sequence is
+    in its asymptotic range: the last three changes have one sign and shrink, and the order
+    lies in :data:`CREDIBLE_ORDER`. Otherwise the finest Omega (kind ``finest``; the errors
+    against it are then lower bounds of the true resolution error)."""
     from md_omega_convergence import richardson
+
+    v = np.asarray(value, float)
+    change = np.diff(v)[-3:]
+    lim, order = richardson(omega, v)
+    asymptotic = (change.size == 3 and (np.all(change > 0) or np.all(change < 0))
+                  and np.all(np.abs(change[1:]) < np.abs(change[:-1])))
+    if asymptotic and np.isfinite(lim) and CREDIBLE_ORDER[0] <= order <= CREDIBLE_ORDER[1]:
+        return float(lim), "richardson", float(order)
+    return float(v[-1]), "finest", float(order)
+
+
+def omega_summary(df):
+    """Per depth and scheme: each Omega's moduli, their change from the next coarser Omega and
+    their error against the reference (:func:`omega_reference`)."""
+    import pandas as pd
 
     out = []
     for (depth, scheme), g in df.groupby(["depth", "scheme"], sort=True):
         g = g.sort_values("omega")
-        ref = {}
-        for var in MODULI:
-            lim, order = richardson(g.omega.values, g[var].values)
-            kind = "richardson" if np.isfinite(lim) else "finest"
-            ref[var] = (lim if np.isfinite(lim) else g[var].values[-1], kind, order)
+        ref = {var: omega_reference(g.omega.values, g[var].values) for var in MODULI}
         prev = None
         for _, row in g.iterrows():
             rec = dict(study="omega", knob=f"{row.omega:g}", depth=depth, scheme=scheme,
@@ -245,6 +264,7 @@ def plot(summary, tag):
     one run, sqrt(bias^2 + seed std^2)), open squares = the seed spread alone."""
     _common.use_agg()
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullFormatter
 
     depths = sorted(summary.depth.unique())
     fig, axes = plt.subplots(1, len(MODULI), figsize=(12, 4.8), squeeze=False)
@@ -267,25 +287,150 @@ def plot(summary, tag):
                 if study == "size":
                     ax.plot(g.seconds_total, g[f"{var}_spread"], "s", mfc="none", color=color,
                             ms=7, lw=0)
-        ax.set(xscale="log", yscale="log", xlabel="wall time of one configuration (s)",
-               ylabel="relative error", title=title)
+        ax.set(xlabel="wall time of one configuration (s)", ylabel="relative error",
+               title=title)
+        positive = summary[[f"{var}_error", f"{var}_spread"]].to_numpy()
+        if not np.any(positive[np.isfinite(positive)] > 0):
+            ax.text(0.5, 0.5, "no errors to plot\n(one value per knob)", ha="center",
+                    transform=ax.transAxes)
+            continue
+        ax.set(xscale="log", yscale="log")
+        ticks = [t for t in (10, 20, 50, 100, 200, 500, 1000, 2000, 5000)
+                 if summary.seconds_total.min() / 1.5 <= t <= summary.seconds_total.max() * 1.5]
+        ax.xaxis.set_major_locator(FixedLocator(ticks))
+        ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    axes[0, 0].legend(fontsize=7, loc="lower left")
-    fig.suptitle("MD scene: error against wall time (circles: Omega vs its reference; filled "
-                 "squares: size, one run vs the largest size's mean; open squares: seed spread)",
-                 fontsize=9)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=3,
+               bbox_to_anchor=(0.5, -0.12))
+    kinds = sorted({k for var in MODULI for k in
+                    summary[summary.study == "omega"][f"{var}_reference_kind"].unique()})
+    fig.suptitle("MD scene, error against wall time. Circles: Omega against "
+                 + (" / ".join(kinds).replace("finest", "the finest Omega (a lower bound)"))
+                 + ";\nfilled squares: pack size, one run against the largest size's seed "
+                 "mean, sqrt(bias^2 + seed std^2); open squares: the seed spread alone",
+                 fontsize=9, y=1.05)
     _common.save_figure(fig, _common.result_path(NAME, "png", tag))
 
 
+def read_attrs(path):
+    """The ``# key: value`` metadata lines of a CSV written by :func:`_common.write_csv`."""
+    attrs = {}
+    with open(path) as fh:
+        for line in fh:
+            if not line.startswith("# "):
+                break
+            key, _, value = line[2:].rstrip("\n").partition(": ")
+            attrs[key] = value
+    return attrs
+
+
+def finish(df, attrs, tag):
+    """Summary, CSV, netCDF and PNG from the per-run rows."""
+    import pandas as pd
+    import xarray as xr
+
+    sizes = sorted({tuple(float(x) for x in s.split("x")) for s in df[df.study == "size"]["size"]},
+                   key=np.prod)
+    summary = pd.concat([omega_summary(df[df.study == "omega"]),
+                         size_summary(df[df.study == "size"], sizes)], ignore_index=True)
+    _common.write_csv(df, _common.result_path(NAME, "csv", tag), attrs)
+    _common.write_csv(summary, _common.result_path(NAME + "_summary", "csv", tag), attrs)
+    ds = xr.Dataset.from_dataframe(df.rename_axis("run"))
+    for var, unit in UNITS.items():
+        if var in ds:
+            ds[var].attrs["units"] = unit
+    summ = xr.Dataset.from_dataframe(summary.rename_axis("entry").add_prefix("summary_"))
+    for var in summ.data_vars:
+        base = var.removeprefix("summary_")
+        if base in UNITS:
+            summ[var].attrs["units"] = UNITS[base]
+        elif base.startswith(tuple(MODULI)) and base.endswith(("_std", "_reference")):
+            summ[var].attrs["units"] = "GPa"
+    _common.write_netcdf(xr.merge([ds, summ]).assign_attrs(attrs),
+                         _common.result_path(NAME, "nc", tag))
+    plot(summary, tag)
+    print(_common.markdown(summary, {
+        "study": ("study", "s"), "knob": ("knob", "s"), "depth": ("depth m", "g"),
+        "saturation": ("S_c", ".3f"), "p_modulus": ("M GPa", ".3f"),
+        "p_modulus_std": ("± seeds", ".3f"), "p_modulus_change": ("change", "+.1%"),
+        "p_modulus_error": ("M err", ".1%"), "shear_modulus": ("G GPa", ".3f"),
+        "shear_modulus_std": ("± seeds", ".3f"), "shear_modulus_change": ("change", "+.1%"),
+        "shear_modulus_error": ("G err", ".1%"), "seconds_pack": ("pack s", ".1f"),
+        "seconds_members": ("members s", ".1f"), "seconds_total": ("total s", ".1f")}))
+    return summary
+
+
 def replot(tag):
+    """Summary, netCDF and figure again from the per-run CSV of an earlier run (its metadata
+    kept: they describe the code and machine that made the numbers)."""
     import pandas as pd
 
-    plot(pd.read_csv(_common.result_path(NAME + "_summary", "csv", tag), comment="#"), tag)
+    path = _common.result_path(NAME, "csv", tag)
+    finish(pd.read_csv(path, comment="#"), read_attrs(path), tag)
+
+
+def _pair(text):
+    try:
+        omega, check = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"a pair is OMEGA:CHECK; got {text!r}") from None
+    return omega, check
+
+
+def example_timings(scene_name, pairs, tag):
+    """Wall time of the shipped MD example (``rockcem.scene.run_scene``, its own depths,
+    schemes and pack) at each ``(resolution, resolution_check)``, each in a fresh work folder:
+    the cost the defaults must fit. Writes ``results/<NAME>_example[_<tag>].csv``."""
+    import pandas as pd
+
+    from rockcem.scene import load_scene, run_scene
+
+    rows = []
+    for omega, check in pairs:
+        root = tempfile.mkdtemp(prefix=f"{NAME}_example_")
+        try:
+            scene = load_scene(scene_name).replace(**{
+                "models.md.resolution": omega, "models.md.resolution_check": check,
+                "models.md.workdir": root})
+            load0 = os.getloadavg()[0]
+            t0 = time.perf_counter()
+            ds = run_scene(scene)
+            total = time.perf_counter() - t0
+        finally:
+            shutil.rmtree(root, ignore_errors=True)
+        md = [m for m in ds.model.values if str(m).startswith("md")]
+        wall = ds.md_wall_time.sel(model=md)
+        depths = wall.dropna("depth", how="all").depth.values
+        w = wall.transpose("model", "depth").values
+        slow = np.unravel_index(np.nanargmax(w), w.shape)
+        row = dict(scene=scene_name, omega=omega, check=check, depths=len(depths),
+                   members=int(np.isfinite(wall.values).sum()), schemes=" ".join(md),
+                   size=_size_label(scene.sections["models.md"]["size"]),
+                   seconds_total=total, seconds_members=float(wall.sum()),
+                   seconds_rest=total - float(wall.sum()),
+                   slowest_member_s=float(w[slow]),
+                   slowest_member=f"{md[slow[0]]} {wall.depth.values[slow[1]]:g} m",
+                   load_average=0.5 * (load0 + os.getloadavg()[0]))
+        rows.append(row)
+        print(f"  {scene_name} Omega {omega:g} (check {check:g}): {total:.1f} s, members "
+              f"{row['seconds_members']:.1f} s ({row['members']}), slowest "
+              f"{row['slowest_member']} {row['slowest_member_s']:.1f} s (load "
+              f"{row['load_average']:.1f})", flush=True)
+    df = pd.DataFrame(rows)
+    attrs = _common.environment_attrs(benchmark=NAME + " --example", **_common.md_source_attrs())
+    _common.write_csv(df, _common.result_path(NAME + "_example", "csv", tag), attrs)
+    print(_common.markdown(df, {
+        "omega": ("Omega", "g"), "check": ("check", "g"), "members": ("members", "d"),
+        "seconds_total": ("scene s", ".1f"), "seconds_members": ("members s", ".1f"),
+        "seconds_rest": ("pack + rest s", ".1f"), "slowest_member": ("slowest", "s"),
+        "slowest_member_s": ("its s", ".1f")}))
+    return df
 
 
 def main(argv=None):
     import pandas as pd
-    import xarray as xr
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scene", default="carcione2022_sandstone")
@@ -305,10 +450,19 @@ def main(argv=None):
                     help="Omega 2 3 4, sizes 3x3x8 4x4x12, seeds 0 1")
     ap.add_argument("--keep-work", action="store_true", help="keep the stage files")
     ap.add_argument("--tag", default="")
-    ap.add_argument("--replot", action="store_true", help="only redraw from the CSV files")
+    ap.add_argument("--replot", action="store_true",
+                    help="only recompute the summary, netCDF and figure from the per-run CSV")
+    ap.add_argument("--example", nargs="*", type=_pair, metavar="OMEGA:CHECK",
+                    help="instead: time the shipped MD example (--example-scene) at these "
+                    "resolution:resolution_check pairs (default 3:2 4:3)")
+    ap.add_argument("--example-scene", default="carcione2022_sandstone_md")
     args = ap.parse_args(argv)
     if args.replot:
         return replot(args.tag)
+    if args.example is not None:
+        _common.announce_source()
+        return example_timings(args.example_scene, args.example or [(3.0, 2.0), (4.0, 3.0)],
+                               args.tag)
     if args.quick:
         args.omega, args.sizes, args.seeds = [2, 3, 4], [(3, 3, 8), (4, 4, 12)], [0, 1]
         args.seeds_largest = 2
@@ -343,39 +497,15 @@ def main(argv=None):
         else:
             shutil.rmtree(root, ignore_errors=True)
     wall = time.perf_counter() - t_start
-    df = pd.DataFrame(rows)
-    summary = pd.concat([omega_summary(df[df.study == "omega"]),
-                         size_summary(df[df.study == "size"], args.sizes)], ignore_index=True)
     attrs = _common.environment_attrs(
         benchmark=NAME, scene=args.scene, depths=" ".join(f"{z:g}" for z in state["depth"]),
         omega_size=_size_label(omega_size), omega_seed=omega_seed, size_omega=size_omega,
-        seeds=" ".join(map(str, args.seeds)), seeds_largest=args.seeds_largest, schemes=" ".join(settings["schemes"]),
-        interface=settings["interface"], measure=settings["measure"], slab=settings["slab"],
+        seeds=" ".join(map(str, args.seeds)), seeds_largest=args.seeds_largest,
+        schemes=" ".join(settings["schemes"]), interface=settings["interface"],
+        measure=settings["measure"], slab=settings["slab"],
         radius_range_m=" ".join(f"{r:.4g}" for r in settings["radius_range"]),
         benchmark_wall_seconds=wall, **md_attrs)
-    _common.write_csv(df, _common.result_path(NAME, "csv", args.tag), attrs)
-    _common.write_csv(summary, _common.result_path(NAME + "_summary", "csv", args.tag), attrs)
-    ds = xr.Dataset.from_dataframe(df.rename_axis("run"))
-    for var, unit in UNITS.items():
-        if var in ds:
-            ds[var].attrs["units"] = unit
-    summ = xr.Dataset.from_dataframe(summary.rename_axis("entry").add_prefix("summary_"))
-    for var in summ.data_vars:
-        base = var.removeprefix("summary_")
-        if base in UNITS:
-            summ[var].attrs["units"] = UNITS[base]
-        elif base.startswith(tuple(MODULI)) and base.endswith(("_std", "_reference")):
-            summ[var].attrs["units"] = "GPa"
-    _common.write_netcdf(xr.merge([ds, summ]).assign_attrs(attrs),
-                         _common.result_path(NAME, "nc", args.tag))
-    plot(summary, args.tag)
-    print(_common.markdown(summary, {
-        "study": ("study", "s"), "knob": ("knob", "s"), "depth": ("depth m", "g"),
-        "saturation": ("S_c", ".3f"), "p_modulus": ("M GPa", ".3f"),
-        "p_modulus_std": ("± seeds", ".3f"), "p_modulus_error": ("M err", ".1%"),
-        "shear_modulus": ("G GPa", ".3f"), "shear_modulus_std": ("± seeds", ".3f"),
-        "shear_modulus_error": ("G err", ".1%"), "seconds_pack": ("pack s", ".1f"),
-        "seconds_members": ("members s", ".1f"), "seconds_total": ("total s", ".1f")}))
+    finish(pd.DataFrame(rows), attrs, args.tag)
     print(f"benchmark wall time {wall:.0f} s")
 
 

@@ -148,8 +148,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "seed": (0, "integer", "", "random seed of settling and pore-body cement"),
         "samples": (1, "integer", "", "independent packs (seeds seed, seed + 1, ...): the "
                     "velocities are their mean, with the standard error as sample-size error"),
-        "resolution": (3.0, "number", "cells per radius", "cement lattice resolution Omega"),
-        "resolution_check": (2.0, "number", "cells per radius",
+        "resolution": (4.0, "number", "cells per radius", "cement lattice resolution Omega"),
+        "resolution_check": (3.0, "number", "cells per radius",
                              "coarser Omega for the resolution error (0 = none)"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),

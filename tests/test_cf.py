@@ -8,7 +8,7 @@ fast; the MD scene (a grain-pack experiment, minutes) is not run here.
 
 import pytest
 
-from rockcem.scene import load_scene, read_scene_toml, run_scene, shipped_scenes, write_dataset
+from rockcem.scene import read_scene_toml, run_scene, shipped_scenes, write_dataset
 
 pytest.importorskip("cf_xarray")
 pytest.importorskip("pint")
@@ -23,18 +23,21 @@ SCENES = sorted(name for name in shipped_scenes() if "md" not in read_scene_toml
 
 
 #: A burial scene with the MD engine as a model runs a small pack at two depths here.
-TINY_MD = {"models.md.depths": [2000.0, 4000.0], "models.md.size": [3.0, 3.0, 8.0],
-           "models.md.resolution": 2.0, "models.md.resolution_check": 1.5}
+TINY_MD = {"count": 2, "size": [3.0, 3.0, 8.0], "resolution": 2.0, "resolution_check": 1.5}
 
 
 @pytest.fixture(scope="module", params=SCENES)
 def written(request, tmp_path_factory):
-    scene = load_scene(request.param)
+    from rockcem.scene import scene_from_dict, scene_path
+
+    raw, _ = read_scene_toml(request.param)
+    if "md" in raw.get("models", {}):
+        keep = {k: v for k, v in raw["models"]["md"].items() if k not in ("depths", "count")}
+        raw["models"]["md"] = {**keep, **TINY_MD,
+                               "workdir": str(tmp_path_factory.mktemp("md_work"))}
+    scene = scene_from_dict(raw, base_dir=scene_path(request.param).parent)
     if scene.sections["path"]["kind"] == "linear":       # a table history has its own depths
         scene = scene.replace(**{"path.depth_step": 500.0 if scene.sweep else 250.0})
-    if "md" in scene.models:
-        work = str(tmp_path_factory.mktemp("md_work"))
-        scene = scene.replace(**TINY_MD, **{"models.md.workdir": work})
     ds = run_scene(scene)
     return write_dataset(ds, tmp_path_factory.mktemp("cf") / f"{request.param}.nc")
 
