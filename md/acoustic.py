@@ -288,6 +288,31 @@ class AcousticSystem:
                      + np.bincount(j, a_j**2 * rot[:, a], self.n_particles) for a in range(3)]
         return np.stack(diag, axis=-1)
 
+    def stiffness_blocks(self) -> np.ndarray:
+        """The diagonal blocks of :math:`K`, one per particle, shape (n, dof, dof): the
+        stiffness of a particle's own degrees of freedom with every other particle held
+        (the block-Jacobi preconditioner of :func:`md.static_modulus`)."""
+        i, j, n, k_n, k_t = self._bonds(self.bond_kn, self.bond_kt, self.lattice_kn,
+                                        self.lattice_kt)
+        k = (k_n - k_t)[:, None, None] * n[:, :, None] * n[:, None, :] \
+            + k_t[:, None, None] * np.eye(3)
+        dof = self.dof
+        out = np.zeros((self.n_particles, dof, dof))
+        if not self.rotations:
+            np.add.at(out, i, k)
+            np.add.at(out, j, k)
+            return out
+        a_i, a_j = self._arms()
+        cross = np.zeros((n.shape[0], 3, 3))        # [n]x t = n x t
+        cross[:, 0, 1], cross[:, 0, 2] = -n[:, 2], n[:, 1]
+        cross[:, 1, 0], cross[:, 1, 2] = n[:, 2], -n[:, 0]
+        cross[:, 2, 0], cross[:, 2, 1] = -n[:, 1], n[:, 0]
+        eye = np.broadcast_to(np.eye(3), cross.shape)
+        for who, sign, arm in ((i, -1.0, a_i), (j, 1.0, a_j)):
+            B = np.concatenate([sign * eye, arm[:, None, None] * cross], axis=2)   # (m, 3, 6)
+            np.add.at(out, who, np.einsum("mai,mab,mbj->mij", B, k, B))
+        return out
+
     def _assemble(self, kn, kt, lattice_kn, lattice_kt):
         """Sparse matrix of bonds with contact constants ``kn, kt`` and per-direction lattice
         constants ``lattice_kn, lattice_kt``."""

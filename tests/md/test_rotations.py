@@ -141,3 +141,17 @@ def test_pruned_static_solve_equals_a_regularised_direct_solve(compacted_pack):
     f = -(K0 @ u.ravel()).reshape(n, 6)
     stress = f[flag == 1, 2].sum() / (system.box.lx * system.box.ly)
     assert pruned.stress == pytest.approx(stress, rel=1e-6)
+
+
+@pytest.mark.parametrize("rotations", [False, True])
+def test_stiffness_blocks_are_the_diagonal_blocks_of_k(cemented, rotations):
+    """The block-Jacobi preconditioner's blocks equal the particle blocks of the assembled
+    stiffness matrix."""
+    pack, lat, cem = cemented
+    system = acoustic_system(pack, lat, cem, HARD_CEMENT, rotations=rotations)
+    K = system.stiffness_matrix().tocsr()
+    d = system.dof
+    blocks = system.stiffness_blocks()
+    for p in range(0, system.n_particles, 7):
+        ref = K[d * p:d * p + d, d * p:d * p + d].toarray()
+        np.testing.assert_allclose(blocks[p], ref, rtol=1e-12, atol=1e-12 * abs(ref).max())
