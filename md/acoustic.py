@@ -58,6 +58,16 @@ _LATTICE_NORMALS = LATTICE_OFFSETS / np.linalg.norm(LATTICE_OFFSETS, axis=1)[:, 
 _LATTICE_LENGTH2 = np.sum(LATTICE_OFFSETS**2, axis=1).astype(float)     # |x|^2 / c_w^2
 
 
+def _cross_matrices(n):
+    """The matrices :math:`[\\hat n]_\\times` of the unit vectors ``n`` (shape (m, 3)):
+    ``cross[b] @ t`` is ``n[b] x t``."""
+    cross = np.zeros((n.shape[0], 3, 3))
+    cross[:, 0, 1], cross[:, 0, 2] = -n[:, 2], n[:, 1]
+    cross[:, 1, 0], cross[:, 1, 2] = n[:, 2], -n[:, 0]
+    cross[:, 2, 0], cross[:, 2, 1] = -n[:, 1], n[:, 0]
+    return cross
+
+
 def damping_ratio(restitution) -> float:
     """Damping ratio :math:`\\zeta = -\\ln e / \\sqrt{\\pi^2 + \\ln^2 e}` of a linear spring–dashpot
     contact whose head-on impact has restitution ``e`` (half a period of the damped oscillator:
@@ -303,10 +313,7 @@ class AcousticSystem:
             np.add.at(out, j, k)
             return out
         a_i, a_j = self._arms()
-        cross = np.zeros((n.shape[0], 3, 3))        # [n]x t = n x t
-        cross[:, 0, 1], cross[:, 0, 2] = -n[:, 2], n[:, 1]
-        cross[:, 1, 0], cross[:, 1, 2] = n[:, 2], -n[:, 0]
-        cross[:, 2, 0], cross[:, 2, 1] = -n[:, 1], n[:, 0]
+        cross = _cross_matrices(n)
         eye = np.broadcast_to(np.eye(3), cross.shape)
         for who, sign, arm in ((i, -1.0, a_i), (j, 1.0, a_j)):
             B = np.concatenate([sign * eye, arm[:, None, None] * cross], axis=2)   # (m, 3, 6)
@@ -341,10 +348,7 @@ class AcousticSystem:
         import scipy.sparse as sp
 
         a_i, a_j = self._arms()
-        cross = np.zeros((n.shape[0], 3, 3))        # [n]x t = n x t
-        cross[:, 0, 1], cross[:, 0, 2] = -n[:, 2], n[:, 1]
-        cross[:, 1, 0], cross[:, 1, 2] = n[:, 2], -n[:, 0]
-        cross[:, 2, 0], cross[:, 2, 1] = -n[:, 1], n[:, 0]
+        cross = _cross_matrices(n)
         eye = np.broadcast_to(np.eye(3), cross.shape)
         B = np.concatenate([-eye, a_i[:, None, None] * cross, eye,
                             a_j[:, None, None] * cross], axis=2)
@@ -381,8 +385,9 @@ class AcousticSystem:
 
             rows = gershgorin_rows_rot(
                 1.0 / np.sqrt(self.dof_masses), self.bond_i, self.bond_j, self.bond_normal,
-                self.bond_kn, self.bond_kt, self.arm_i, self.arm_j, self.lattice_neighbors, self.n_grains,
-                _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt, self.lattice_arm)
+                self.bond_kn, self.bond_kt, self.arm_i, self.arm_j, self.lattice_neighbors,
+                self.n_grains, _LATTICE_NORMALS, self.lattice_kn, self.lattice_kt,
+                self.lattice_arm)
             return float(np.sqrt(np.max(rows)))
         rows = gershgorin_rows(self.n_particles, self.bond_i, self.bond_j, self.bond_normal,
                                self.bond_kn, self.bond_kt, self.lattice_neighbors,
