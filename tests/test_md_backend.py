@@ -54,6 +54,15 @@ def test_md_member_at_the_chosen_depths_only(result):
     np.testing.assert_allclose(md.vp, np.sqrt((md.K_sat + 4 / 3 * md.G_sat) / md.md_density),
                                rtol=1e-12)
     assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
+    # Bounds: an isotropic solid has Vp/Vs >= sqrt(4/3); the dry frame lies below the upper
+    # Hashin-Shtrikman bound of its solid (quartz grains and cement) with empty pores.
+    from rockcem.bounds import hashin_shtrikman_upper
+
+    assert np.all(md.vp / md.vs >= np.sqrt(4 / 3))
+    q, c = mineral("quartz"), mineral("quartz_cement")
+    upper = hashin_shtrikman_upper([q.K, c.K, 0.0], [q.G, c.G, 0.0],
+                                   np.stack([(1 - phi) * (1 - beta), (1 - phi) * beta, phi], -1))
+    assert np.all(md.K_dry.values <= upper.K) and np.all(md.G_dry.values <= upper.G)
     assert np.all(md.vp_error_resolution >= 0) and np.all(np.isfinite(md.vp_error_resolution))
     assert np.all(np.isnan(md.vp_error_sample))              # one sample: no spread
     # The porosity gap is said, with its range.

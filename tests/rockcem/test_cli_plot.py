@@ -5,7 +5,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -23,20 +22,6 @@ def swept_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("swept")
     write_dataset(run_scene(scene_from_dict(SWEPT)), folder / "s.nc")
     return folder / "s.nc"
-
-
-@pytest.fixture
-def drawn(monkeypatch):
-    """The figures `rockcem plot` would save, kept open for inspection."""
-    figures = []
-
-    def keep(fig, path, **_):
-        figures.append(fig)
-        return path
-
-    monkeypatch.setattr(plots, "save_figure", keep)
-    yield figures
-    plt.close("all")
 
 
 def test_plot_refuses_nine_members_naming_the_dimension_and_select(swept_file, drawn, capsys):

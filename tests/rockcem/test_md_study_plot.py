@@ -30,19 +30,6 @@ def close_figures():
     plt.close("all")
 
 
-@pytest.fixture
-def drawn(monkeypatch):
-    """The figures `rockcem plot` would save, kept open for inspection."""
-    figures = []
-
-    def keep(fig, path, **_):
-        figures.append(fig)
-        return path
-
-    monkeypatch.setattr(plots, "save_figure", keep)
-    return figures
-
-
 def study(samples=("loose",), cements=("hard", "soft", "mixed"), schemes=("contact", "coating"),
           saturations=(0.0, 0.05, 0.1), resolution=True, static=True, units="km s-1"):
     """A hand-made MD study: Vp rising with S_c, faster for the later samples and schemes."""
