@@ -16,6 +16,7 @@ MD results (the one md module that uses rockcem).
 """
 
 from .acoustic import AcousticSystem, acoustic_system, cement_block, pulse_test, static_modulus
+from .static import static_moduli
 from . import calibrate
 from .bonded import (BondedModuli, BondedSystem, bond_stiffness, bonded_acoustic_system,
                      bonded_moduli, bonded_system)
@@ -33,6 +34,7 @@ __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_r
            "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack",
            "CementLattice", "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "cement_lattice",
            "grow_cement", "cement_sweep", "AcousticSystem", "acoustic_system", "cement_block",
-           "pulse_test", "static_modulus", "BondedSystem", "BondedModuli", "bond_stiffness",
-           "bonded_system", "bonded_static_moduli", "bonded_moduli", "bonded_acoustic_system",
+           "pulse_test", "static_modulus", "static_moduli", "BondedSystem", "BondedModuli",
+           "bond_stiffness", "bonded_system", "bonded_static_moduli", "bonded_moduli",
+           "bonded_acoustic_system",
            "calibrate", "write_calibration"]

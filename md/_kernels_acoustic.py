@@ -22,7 +22,7 @@ from numba import njit
 
 __all__ = ["lattice_table", "grain_cement_bonds", "interface_patches", "bond_force",
            "contact_forces",
-           "lattice_forces", "gershgorin_rows", "leapfrog_run"]
+           "lattice_forces", "gershgorin_rows", "leapfrog_run", "block_jacobi"]
 
 
 @njit(cache=True)
@@ -256,6 +256,26 @@ def lattice_forces(u, table, first, lat_nrm, lat_kn, lat_kt, f, sz, want_sz, ax)
         f[i, 2] += sz_i
         if want_sz:
             sz[i] += ss
+
+
+@njit(cache=True)
+def block_jacobi(inverse, active, free_idx, r, full_r, full_z, z):
+    """``z = M^-1 r`` on the free degrees of freedom ``free_idx`` (indices into the particle-major
+    n × dof vector) for the block-diagonal ``inverse`` (n, dof, dof); ``full_r`` and ``full_z``
+    (n × dof) are scratch, and the held entries of ``full_r`` must be zero (they stay so);
+    ``active`` lists the particles with a free degree of freedom."""
+    dof = inverse.shape[1]
+    for k in range(free_idx.size):
+        full_r[free_idx[k]] = r[k]
+    for p in active:                    # whole blocks (held rows too: cheaper than dividing
+        base = p * dof                  # each free index by dof), then the free rows kept
+        for a in range(dof):
+            acc = 0.0
+            for b in range(dof):
+                acc += inverse[p, a, b] * full_r[base + b]
+            full_z[base + a] = acc
+    for k in range(free_idx.size):
+        z[k] = full_z[free_idx[k]]
 
 
 @njit(cache=True)

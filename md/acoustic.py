@@ -231,17 +231,27 @@ class AcousticSystem:
                 self.bond_kt, self.bond_gn, self.bond_gt, full, self.n_grains, _LATTICE_NORMALS,
                 self.lattice_kn, self.lattice_kt)
 
-    def forces(self, u, v=None, *, parallel=False) -> np.ndarray:
+    def forces(self, u, v=None, *, parallel=False, out=None) -> np.ndarray:
         """Bond forces :math:`-(K u + D v)` on every particle, shape (n, 3) — with rotations
         (n, 6): forces (N), then moments (N m) — for displacements ``u`` (and rotations);
         ``parallel`` uses the multi-threaded gather kernels (numba threads; translations
-        only)."""
+        only). ``out``, a C-contiguous float array of n × dof numbers, receives the forces
+        (overwritten) and is returned as an (n, dof) view: an iterative solve then allocates
+        nothing per step."""
         from ._kernels_acoustic import contact_forces, lattice_forces
 
         u = np.ascontiguousarray(u, dtype=float).reshape(self.n_particles, self.dof)
         v = np.zeros_like(u) if v is None else \
             np.ascontiguousarray(v, dtype=float).reshape(self.n_particles, self.dof)
-        f = np.zeros_like(u)
+        if out is None:
+            f = np.zeros_like(u)
+        else:
+            if (out.dtype != np.float64 or out.size != u.size
+                    or not out.flags.c_contiguous):
+                raise ValueError(f"out must be a C-contiguous float64 array of {u.size} "
+                                 f"numbers; got {out.dtype} of {out.size}")
+            f = out.reshape(u.shape)
+            f.fill(0.0)
         sz = np.zeros(0)
         if self.rotations:
             from ._kernels_rotation import contact_forces_rot, lattice_forces_rot

@@ -100,11 +100,11 @@ def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload
 def _moduli(system, measure):
     """Dry P-wave and shear moduli (Pa) and density (kg/m³) of a linearised sample."""
     from .acoustic import pulse_test
-    from .static import static_modulus
+    from .static import static_moduli
 
     if measure == "static":
-        p, s = static_modulus(system, "p"), static_modulus(system, "s")
-        return p.modulus, s.modulus, p.density
+        st = static_moduli(system, ("p", "s"))      # one factorisation for both
+        return st["p"].modulus, st["s"].modulus, st["p"].density
     p, s = pulse_test(system, "p"), pulse_test(system, "s")
     rho = float(p.density)
     return rho * float(p.velocity) ** 2, rho * float(s.velocity) ** 2, rho

@@ -17,7 +17,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .acoustic import AcousticSystem
 
-__all__ = ["StaticModulus", "static_modulus"]
+__all__ = ["StaticModulus", "static_modulus", "static_moduli", "SOLVERS", "LU_MAX_DOF"]
 
 _AXIS = {"p": 2, "s": 0}
 
@@ -111,38 +111,81 @@ def _bonds_among(system: AcousticSystem, keep):
     return dataclasses.replace(system, lattice_neighbors=table, **sub)
 
 
-def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
-                   maxiter=None, parallel=False) -> StaticModulus:
+#: Static solvers: "lu" factorises K_ff once (fast and exact below some 10^5 free degrees of
+#: freedom), "cg" iterates with a block-Jacobi preconditioner (little memory), "auto" picks.
+SOLVERS = ("auto", "lu", "cg")
+#: Largest number of free degrees of freedom "auto" factorises (the factor of a cemented
+#: sample of 1e5 free dof takes about 0.2 GB and 4 s; of 3e5, 2.2 GB and 80 s).
+LU_MAX_DOF = 150_000
+
+
+def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10, maxiter=None,
+                   parallel=False, solver="auto") -> StaticModulus:
     """P-wave (or shear) modulus of the linearised sample by a sparse solve.
 
     The bottom slab is displaced by a small :math:`u_z` (``wave="p"``, uniaxial strain) or
     :math:`u_x` (``wave="s"``, simple shear), all of its particles alike, the top slab is held
     fixed, the periodic box keeps the lateral strain zero (with rotations,
     :attr:`md.AcousticSystem.rotations`, only the end slabs' translations are prescribed and
-    every rotation is free); :math:`K_{ff} u_f = -K_{fp} u_p` is
-    solved by Jacobi-preconditioned conjugate gradients on the free particles bonded, directly or
-    through others, to an end slab (rattlers and floating cement clusters drop out). The stress is
-    the reaction on the fixed slab over the box area (the same through every horizontal section);
-    the strain is the slope of a least-squares line through the centres of mass of the interior
-    slabs (their load-path particles) in :math:`(z, u_z)` — the part of the sample the pulse test's
-    detectors see. ``rtol`` is the CG tolerance, in (0, 1), ``maxiter`` its iteration cap
-    (an integer >= 1; default 20 per free degree of freedom); ``parallel`` applies the operator
-    with the multi-threaded gather kernels (:meth:`md.AcousticSystem.forces`).
-    """
-    import scipy.sparse.linalg as spla
+    every rotation is free); :math:`K_{ff} u_f = -K_{fp} u_p` is solved on the free particles
+    bonded, directly or through others, to an end slab (rattlers and floating cement clusters
+    drop out). The stress is the reaction on the fixed slab over the box area (the same through
+    every horizontal section); the strain is the slope of a least-squares line through the
+    centres of mass of the interior slabs (their load-path particles) in :math:`(z, u_z)` — the
+    part of the sample the pulse test's detectors see.
 
+    Parameters
+    ----------
+    system : md.AcousticSystem
+    wave : {"p", "s"}
+    rtol : float
+        Tolerance of the conjugate gradients, in (0, 1): :math:`\\|b - K_{ff} u_f\\| \\le`
+        ``rtol`` :math:`\\|b\\|`.
+    maxiter : int, optional
+        Iteration cap (``>= 1``; default 20 per free degree of freedom).
+    parallel : bool
+        Apply the operator with the multi-threaded gather kernels
+        (:meth:`md.AcousticSystem.forces`; translations only, ``solver="cg"``).
+    solver : {"auto", "lu", "cg"}
+        ``"lu"``: conjugate gradients preconditioned by a sparse LU factor of :math:`K_{ff}`
+        (:func:`_lu_preconditioner`), two to five iterations; ``"cg"``: preconditioned by
+        :math:`K_{ff}`'s per-particle blocks (block Jacobi), thousands of iterations on thinly
+        cemented samples but little memory; ``"auto"``: LU up to :data:`LU_MAX_DOF` free
+        degrees of freedom.
+
+    Notes
+    -----
+    With rotations, :math:`K_{ff}` is singular: a cement particle bonded at two points turns
+    about the line through them at no cost (its centre moves), and a few chains of them do the
+    same together. The load is consistent (it does no work on these mechanisms), the stress is
+    independent of them, but the centres of mass that give the strain are not. ``"lu"`` takes
+    the solution with no component along them (each particle's own mechanisms pinned, a shift
+    of 1e-10 of the unit-scaled diagonal for the collective ones); ``"cg"`` leaves whatever
+    part its iterations picked up, which moves the modulus by 1e-5 to 3e-4 relative on thin
+    coatings — far below the resolution error of the cement lattice, but not reproducible
+    across solvers.
+    """
+    return static_moduli(system, (wave,), rtol=rtol, maxiter=maxiter, parallel=parallel,
+                         solver=solver)[wave]
+
+
+def static_moduli(system: AcousticSystem, waves=("p", "s"), *, rtol=1e-10, maxiter=None,
+                  parallel=False, solver="auto") -> dict:
+    """:func:`static_modulus` of each wave in ``waves``, sharing the set-up (and with
+    ``solver="lu"`` the factorisation: :math:`K_{ff}` is the same for P and S). Returns a dict
+    ``{wave: StaticModulus}``."""
     if not 0.0 < rtol < 1.0:
         raise ValueError(f"rtol must lie in (0, 1); got {rtol}")
     if maxiter is not None and (isinstance(maxiter, bool) or int(maxiter) != maxiter
                                 or maxiter < 1):
         raise ValueError(f"maxiter must be an integer >= 1 or None; got {maxiter!r}")
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}; got {solver!r}")
+    axes = [_wave_axis(w) for w in waves]
     slab, n_slabs, flag = _prescribed(system)
     n = system.n_particles
     amp = 1e-6 * system.slab_thickness
     dof = system.dof
-    u_p = np.zeros((n, dof))
-    ax = _wave_axis(wave)
-    u_p[flag == 2, ax] = amp
     connected = _load_path(system, flag)
     system = _bonds_among(system, connected | (flag != 0))
     diag = system.stiffness_diagonal()      # zero: no stiffness, not solved for
@@ -153,52 +196,37 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
     free_idx = np.flatnonzero(free.ravel())
     if free_idx.size == 0:
         raise ValueError("no free particle between the end slabs is bonded to them")
-    b = system.forces(u_p, parallel=parallel).ravel()[free_idx]
-
-    def matvec(y):
-        u = np.zeros(dof * n)
-        u[free_idx] = y
-        return -system.forces(u, parallel=parallel).ravel()[free_idx]
-
-    op = spla.LinearOperator((free_idx.size,) * 2, matvec=matvec, dtype=float)
-    # Block-Jacobi: each particle's own block of K on its free degrees of freedom, inverted
-    # (a pseudo-inverse where a rotation has no stiffness). On a cemented 2 700-particle sample
-    # with rotations it takes 2.8 times fewer iterations than the diagonal.
-    blocks = system.stiffness_blocks()
-    held = ~free
-    blocks[held[:, :, None] | held[:, None, :]] = 0.0
-    blocks[:, np.arange(dof), np.arange(dof)] += held
-    # Scaled to a unit diagonal first (forces and moments differ by many orders of magnitude),
-    # so that the cut-off of the pseudo-inverse is relative within each kind.
-    scale = 1.0 / np.sqrt(np.diagonal(blocks, axis1=1, axis2=2))
-    unit = blocks * scale[:, :, None] * scale[:, None, :]
-    inverse = np.linalg.pinv(unit, rcond=1e-10, hermitian=True) \
-        * scale[:, :, None] * scale[:, None, :]
-
-    def precondition(y):
-        r = np.zeros(dof * n)
-        r[free_idx] = y
-        return np.einsum("pij,pj->pi", inverse, r.reshape(n, dof)).ravel()[free_idx]
-
-    pre = spla.LinearOperator((free_idx.size,) * 2, matvec=precondition, dtype=float)
-    count = [0]
-
-    def callback(_):
-        count[0] += 1
-
+    if solver == "auto":
+        solver = "lu" if free_idx.size <= LU_MAX_DOF and not parallel else "cg"
+    if solver == "lu" and parallel:
+        raise ValueError("parallel applies to solver='cg' only")
     # The solver's vector operations are short: one BLAS thread. More only wait on each other,
     # and on a busy machine (several solves at once) a dot product of 10^4 numbers took 16 ms
     # instead of 12 us.
     from threadpoolctl import threadpool_limits
 
+    out = {}
     with threadpool_limits(limits=1, user_api="blas"):
-        y, info = spla.cg(op, b, rtol=rtol, atol=0.0, M=pre,
-                          maxiter=maxiter or 20 * free_idx.size, callback=callback)
-    if info != 0:
-        raise RuntimeError(f"static solve did not converge in {count[0]} CG iterations")
-    u = u_p.ravel().copy()
-    u[free_idx] = y
-    u = u.reshape(n, dof)
+        if solver == "lu":
+            K = system.stiffness_matrix().tocsr()[free_idx][:, free_idx]
+            apply_, precondition = _lu_preconditioner(system, K, free, free_idx)
+        else:
+            apply_, precondition = _block_jacobi(system, free, free_idx, parallel)
+        for wave, ax in zip(waves, axes):
+            u_p = np.zeros((n, dof))
+            u_p[flag == 2, ax] = amp
+            b = system.forces(u_p, parallel=parallel).ravel()[free_idx]
+            y, iterations = _pcg(apply_, precondition, b, rtol,
+                                 maxiter or 20 * free_idx.size)
+            u = u_p.ravel().copy()
+            u[free_idx] = y
+            out[wave] = _measure(system, u.reshape(n, dof), wave, ax, flag, slab, n_slabs,
+                                 connected, iterations)
+    return out
+
+
+def _measure(system, u, wave, ax, flag, slab, n_slabs, connected, iterations):
+    """Stress (reaction on the fixed slab) and interior strain of the solved displacements."""
     f = system.forces(u)
     area = system.box.lx * system.box.ly
     stress = float(np.sum(f[flag == 1, ax])) / area       # push on the fixed top slab
@@ -221,4 +249,128 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10,
                            f"(no load-bearing path; stress {stress:.3g} Pa, interior strain "
                            f"{slope:.3g})")
     return StaticModulus(modulus, density, math.sqrt(modulus / density), slope, stress,
-                         count[0])
+                         iterations)
+
+
+def _unit_blocks(system, free):
+    """Each particle's own block of :math:`K` on its free degrees of freedom (held ones: a unit
+    diagonal), and the scale that makes the blocks' diagonals one (forces and moments differ by
+    many orders of magnitude)."""
+    dof = system.dof
+    blocks = system.stiffness_blocks()
+    held = ~free
+    blocks[held[:, :, None] | held[:, None, :]] = 0.0
+    blocks[:, np.arange(dof), np.arange(dof)] += held
+    scale = 1.0 / np.sqrt(np.diagonal(blocks, axis1=1, axis2=2))
+    return blocks * scale[:, :, None] * scale[:, None, :], scale
+
+
+def _block_jacobi(system, free, free_idx, parallel):
+    """Operator and block-Jacobi preconditioner of :func:`_pcg` for ``solver="cg"``, both
+    written into buffers made once (no step allocates). Each particle's own block of K on its
+    free degrees of freedom is inverted (a pseudo-inverse where a rotation has no stiffness):
+    on a cemented 2 700-particle sample with rotations it takes 2.8 times fewer iterations than
+    the diagonal."""
+    from ._kernels_acoustic import block_jacobi
+
+    n, dof = system.n_particles, system.dof
+    unit, scale = _unit_blocks(system, free)
+    inverse = np.linalg.pinv(unit, rcond=1e-10, hermitian=True) \
+        * scale[:, :, None] * scale[:, None, :]
+    full_u = np.zeros(n * dof)          # displacements: held entries stay zero
+    full_r = np.zeros(n * dof)          # scratch of the preconditioner: held entries stay zero
+    full_f = np.zeros(n * dof)
+    full_z = np.zeros(n * dof)
+    active = np.unique(free_idx // dof)
+    zero_v = np.zeros(n * dof)
+
+    def apply_(p, q):                   # q = K_ff p
+        full_u[free_idx] = p
+        system.forces(full_u, zero_v, parallel=parallel, out=full_f)
+        np.take(full_f, free_idx, out=q, mode="clip")     # "raise" would buffer ``out``
+        np.negative(q, out=q)
+
+    def precondition(r, z):             # z = M^-1 r
+        block_jacobi(inverse, active, free_idx, r, full_r, full_z, z)
+
+    return apply_, precondition
+
+
+def _lu_preconditioner(system, K, free, free_idx, shift=1e-10):
+    """Operator and preconditioner of :func:`_pcg` for ``solver="lu"``: a sparse LU factor
+    (SuperLU, :func:`scipy.sparse.linalg.splu`, minimum-degree ordering of
+    :math:`A^T + A`, no pivoting: the matrix is symmetric positive definite) of
+    :math:`D^{-1/2} K_{ff} D^{-1/2} + N N^T + \\delta I`, :math:`D` the diagonal.
+
+    :math:`N` holds each particle's own mechanisms — unit null vectors of its scaled block, such
+    as a cement particle bonded at two points turning about the line through them — which are
+    exact null vectors of the whole scaled matrix, so pinning them changes nothing on its range;
+    the shift :math:`\\delta` (1e-10; 1e-8 to 1e-12 agree to 1e-8 in the modulus) covers the
+    mechanisms several particles share. The preconditioned iterations then refine the factor's
+    solution on the unmodified :math:`K_{ff}`, in two to five steps."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    unit, _ = _unit_blocks(system, free)
+    lam, vec = np.linalg.eigh(unit)
+    part, k = np.nonzero((lam < 1e-10) & free.any(axis=1)[:, None])
+    null = vec[part, :, k]                          # (m, dof), zero on held entries
+    where = np.full(free.shape, -1)
+    where.ravel()[free_idx] = np.arange(free_idx.size)
+    rows = where[part]
+    on = rows >= 0
+    cols = np.broadcast_to(np.arange(part.size)[:, None], rows.shape)
+    N = sp.csr_matrix((null[on], (rows[on], cols[on])), shape=(free_idx.size, part.size))
+    sc = 1.0 / np.sqrt(K.diagonal())
+    A = sp.diags(sc) @ K @ sp.diags(sc) + N @ N.T + shift * sp.identity(free_idx.size)
+    lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                   options={"SymmetricMode": True})
+
+    def apply_(p, q):
+        q[:] = K @ p
+
+    def precondition(r, z):
+        z[:] = sc * lu.solve(sc * r)
+
+    return apply_, precondition
+
+
+def _pcg(apply_, precondition, b, rtol, maxiter):
+    """Preconditioned conjugate gradients (Hestenes & Stiefel 1952; Saad 2003, Alg. 9.1) for
+    :math:`K_{ff} y = b` from :math:`y = 0`, with ``apply_(p, q)`` writing :math:`K_{ff} p`
+    into ``q`` and ``precondition(r, z)`` writing :math:`M^{-1} r` into ``z``; stops when
+    :math:`\\|b - K_{ff} y\\| \\le` ``rtol`` :math:`\\|b\\|` (the criterion of
+    :func:`scipy.sparse.linalg.cg`). Returns ``y`` and the iteration count.
+
+    Written out rather than taken from scipy so that no step allocates: every vector lives in a
+    buffer made once. A solve of a few thousand iterations otherwise allocates tens of arrays of
+    100 kB–1 MB per iteration, and where the C library returns such blocks to the kernel at once
+    (``MALLOC_TRIM_THRESHOLD_`` set, as a dask.distributed nanny does for its workers) every one
+    of them page-faults afresh: the same member ran 3–4 times slower in a dask worker.
+    """
+    y = np.zeros(b.size)
+    r = b.copy()
+    z = np.empty_like(b)
+    q = np.empty_like(b)
+    t = np.empty_like(b)
+    tol = rtol * float(np.sqrt(b @ b))
+    precondition(r, z)
+    p = z.copy()
+    rz = float(r @ z)
+    for it in range(maxiter + 1):
+        if float(np.sqrt(r @ r)) <= tol:
+            return y, it
+        if it == maxiter:
+            break
+        apply_(p, q)
+        alpha = rz / float(p @ q)
+        np.multiply(p, alpha, out=t)
+        y += t
+        np.multiply(q, alpha, out=t)
+        r -= t
+        precondition(r, z)
+        rz_new = float(r @ z)
+        p *= rz_new / rz
+        p += z
+        rz = rz_new
+    raise RuntimeError(f"static solve did not converge in {maxiter} CG iterations")

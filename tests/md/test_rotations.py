@@ -110,7 +110,8 @@ def test_uncemented_pack_shear_matches_the_bonded_model(compacted_pack):
     assert no_slip < math.sqrt(m_r / g_r) < 2.0
 
 
-def test_pruned_static_solve_equals_a_regularised_direct_solve(compacted_pack):
+@pytest.mark.parametrize("solver", ["cg", "lu"])
+def test_pruned_static_solve_equals_a_regularised_direct_solve(compacted_pack, solver):
     """Pore-body cement at Omega 2 leaves cement particles hanging by one bond (to a grain or to
     another cement particle). The static solve prunes them before its conjugate gradients; a
     direct sparse solve of the whole operator, made definite by adding 1e-10 of each diagonal
@@ -126,7 +127,7 @@ def test_pruned_static_solve_equals_a_regularised_direct_solve(compacted_pack):
                              HARD_CEMENT)
     slab, n_slabs, flag = _prescribed(system)
     assert (~_load_path(system, flag)).sum() >= 1           # something to prune
-    pruned = static_modulus(system, "p", rtol=1e-13)
+    pruned = static_modulus(system, "p", rtol=1e-13, solver=solver)
     n = system.n_particles
     K0 = system.stiffness_matrix().tocsr()
     K = (K0 + sp.diags(1e-10 * K0.diagonal())).tocsr()
@@ -155,3 +156,99 @@ def test_stiffness_blocks_are_the_diagonal_blocks_of_k(cemented, rotations):
     for p in range(0, system.n_particles, 7):
         ref = K[d * p:d * p + d, d * p:d * p + d].toarray()
         np.testing.assert_allclose(blocks[p], ref, rtol=1e-12, atol=1e-12 * abs(ref).max())
+
+
+@pytest.mark.parametrize("rotations", [False, True])
+def test_forces_into_a_buffer_equal_fresh_forces(cemented, rotations, rng):
+    """``forces(u, out=buf)`` overwrites the buffer (stale values in it do not leak) with the
+    forces of a fresh call; a buffer of the wrong size or type is refused."""
+    pack, lat, cem = cemented
+    system = acoustic_system(pack, lat, cem, HARD_CEMENT, rotations=rotations)
+    u = rng.standard_normal((system.n_particles, system.dof)) * 1e-9
+    buf = np.full(system.n_particles * system.dof, 7.0)
+    got = system.forces(u, out=buf)
+    np.testing.assert_array_equal(got, system.forces(u))
+    assert np.shares_memory(got, buf)
+    for bad in (np.zeros(buf.size - 1), np.zeros(buf.size, np.float32)):
+        with pytest.raises(ValueError, match="out must be"):
+            system.forces(u, out=bad)
+
+
+def test_block_jacobi_kernel_equals_the_dense_block_product(rng):
+    """The preconditioner kernel gives the free rows of the block-diagonal product, computed
+    with numpy's einsum on the whole vector (held entries zero)."""
+    from md._kernels_acoustic import block_jacobi
+
+    n, dof = 50, 6
+    inverse = rng.standard_normal((n, dof, dof))
+    free = np.flatnonzero(rng.random(n * dof) < 0.7)
+    r = rng.standard_normal(free.size)
+    full = np.zeros(n * dof)
+    full[free] = r
+    want = np.einsum("pij,pj->pi", inverse, full.reshape(n, dof)).ravel()[free]
+    z = np.empty(free.size)
+    scratch = np.zeros(n * dof)
+    block_jacobi(inverse, np.unique(free // dof), free, r, scratch, np.zeros(n * dof), z)
+    np.testing.assert_allclose(z, want, rtol=1e-13, atol=1e-13)
+    assert np.all(np.delete(scratch, free) == 0)         # held entries stay zero
+
+
+@pytest.mark.parametrize("solver", ["cg", "lu"])
+@pytest.mark.parametrize("wave", ["p", "s"])
+def test_static_solve_equals_a_direct_solve_without_rotations(cemented, wave, solver):
+    """Translations only (nothing pruned, a definite K_ff): the reaction of either solver's
+    solution equals a direct sparse solve of the assembled operator's (spsolve: a factor
+    without the LU solver's scaling, pinning and refinement)."""
+    import scipy.sparse.linalg as spla
+
+    from md.static import _load_path, _prescribed
+
+    pack, lat, cem = cemented
+    system = acoustic_system(pack, lat, cem, HARD_CEMENT, rotations=False)
+    got = static_modulus(system, wave, rtol=1e-12, solver=solver)
+    *_, flag = _prescribed(system)
+    keep = _load_path(system, flag)
+    n, ax = system.n_particles, {"p": 2, "s": 0}[wave]
+    K = system.stiffness_matrix().tocsr()
+    u = np.zeros((n, 3))
+    u[flag == 2, ax] = 1e-6 * system.slab_thickness
+    free_p = (flag == 0) & keep & (K.diagonal().reshape(n, 3) > 0).all(axis=1)
+    free = np.flatnonzero(np.repeat(free_p, 3))
+    known = np.setdiff1d(np.arange(3 * n), free)
+    u.ravel()[free] = spla.spsolve(K[free][:, free].tocsc(), -K[free][:, known] @ u.ravel()[known])
+    stress = -(K @ u.ravel()).reshape(n, 3)[flag == 1, ax].sum() / (system.box.lx * system.box.ly)
+    assert got.stress == pytest.approx(stress, rel=1e-7)
+    assert (got.iterations > 10) if solver == "cg" else (1 <= got.iterations <= 10), \
+        got.iterations
+
+
+@pytest.mark.parametrize("wave", ["p", "s"])
+def test_lu_solve_is_the_minimum_norm_solution(compacted_pack, monkeypatch, wave):
+    """With rotations K_ff is singular (cement particles bonded at two points turn about the
+    line through them at no cost) and the strain depends on the part of the solution along
+    these mechanisms. The LU solver (mechanisms pinned, a tiny shift) gives the solution with
+    no part along them: the same modulus, to 1e-6, as the minimum-norm solution of the
+    unit-scaled system by a dense pseudo-inverse, which the CG solver with block Jacobi need
+    not give."""
+    import md.static as static
+
+    lat = cement_lattice(compacted_pack, 2.0)
+    system = acoustic_system(compacted_pack, lat, grow_cement(lat, 0.02, "pore_body", seed=0),
+                             HARD_CEMENT)
+
+    def pseudo_inverse(apply_, precondition, b, rtol, maxiter):
+        eye = np.eye(b.size)
+        K = np.empty((b.size, b.size))
+        for k in range(b.size):
+            apply_(eye[k], K[:, k])
+        d = 1.0 / np.sqrt(np.diag(K))
+        A = d[:, None] * K * d[None, :]
+        lam = np.linalg.eigvalsh(A)
+        assert lam[0] > -1e-12 * lam[-1] and np.sum(lam < 1e-12 * lam[-1]) >= 1   # singular
+        return d * (np.linalg.pinv(A, rcond=1e-12, hermitian=True) @ (d * b)), 1
+
+    lu = static_modulus(system, wave, solver="lu", rtol=1e-12)
+    monkeypatch.setattr(static, "_pcg", pseudo_inverse)
+    exact = static_modulus(system, wave, solver="lu")
+    assert lu.stress == pytest.approx(exact.stress, rel=1e-8)
+    assert lu.modulus == pytest.approx(exact.modulus, rel=1e-6)
