@@ -9,6 +9,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from .cli_wells import output_file
+
 __all__ = ["main"]
 
 
@@ -63,10 +65,11 @@ def _run_md(raw, args) -> int:
     """An MD scene (a TOML with an [md] table): packs, cement, pulse tests (numba's md)."""
     from md.experiment import md_scene_from_dict, run_md_scene
 
-    from .scene import write_dataset
+    from .scene import _check_scene_name, write_dataset
 
     scene = md_scene_from_dict(raw)
-    out = args.output or scene["output"]
+    _check_scene_name(raw.get("name", scene["name"]))
+    out = output_file(args.output, scene["output"])
     # Stage files beside the output (<stem>_work), unless the scene names a folder.
     work = scene["md"]["workdir"] or Path(out).with_name(Path(out).stem + "_work")
     ds = run_md_scene(scene, workdir=work, jobs=args.jobs, scheduler=args.scheduler,
@@ -134,7 +137,7 @@ def _run(args) -> int:
     if "md" in raw:
         return _run_md(raw, args)
     scene = scene_from_dict(raw, text=text, base_dir=scene_path(args.scene).parent)
-    out = args.output or scene.output
+    out = output_file(args.output, scene.output)
     ds = run_scene(scene, scheduler=args.scheduler, jobs=args.jobs, progress=not args.quiet)
     path = write_dataset(ds, out)
     if not args.quiet:
@@ -147,6 +150,8 @@ def _demo(args) -> int:
     from .scene import load_scene, run_scene, write_dataset
 
     scene = load_scene("carcione2022_sandstone")
+    output_file(None, f"{scene.name}.nc")
+    output_file(None, f"{scene.name}.png", figure=True)
     ds = run_scene(scene, progress=not args.quiet)
     nc = write_dataset(ds, f"{scene.name}.nc")
     png = None
@@ -172,6 +177,8 @@ def _plot(args) -> int:
     path = Path(args.file)
     if not path.is_file():
         raise ValueError(f"no such file: {args.file}")
+    if args.output is not None:
+        output_file(args.output, None, figure=True)
     try:
         ds = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
@@ -179,7 +186,8 @@ def _plot(args) -> int:
     args.kind = _plot_kind(ds, args, path)
     if args.kind == "md-study":
         ds = _select(ds, args.select or [])
-        out = args.output or path.with_name(f"{path.stem}_{args.kind}.png")
+        out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}.png"),
+                          figure=True)
         print(f"wrote {plots.save_figure(plots.md_study_velocity(ds), out)}")
         return 0
     if args.kind in ("vp-porosity", "template") and ds.attrs.get("lithology") != "sandstone":
@@ -193,7 +201,8 @@ def _plot(args) -> int:
         return plot_with_well(ds, args, path)
     draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
             "template": plots.rock_physics_template}[args.kind]
-    out = args.output or path.with_name(f"{path.stem}_{args.kind}.png")
+    out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}.png"),
+                      figure=True)
     saved = plots.save_figure(draw(ds), out)
     print(f"wrote {saved}")
     return 0
@@ -338,6 +347,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except BrokenPipeError:  # output piped into `head` and friends
         return 0
+    except KeyboardInterrupt:  # Ctrl-C: one line, the shell's code for SIGINT
+        print("rockcem: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,13 +1,53 @@
-"""The well commands of the ``rockcem`` command line: ``compare``, ``fit`` and ``plot --well``.
+"""The well commands of the ``rockcem`` command line: ``compare``, ``fit`` and ``plot --well``;
+and :func:`output_file`, the check every command makes of the files it will write.
 
 Kept apart from :mod:`rockcem.cli`, which registers them (:func:`add_commands`).
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
-__all__ = ["add_commands", "add_well_options", "plot_with_well"]
+__all__ = ["add_commands", "add_well_options", "output_file", "plot_with_well"]
+
+
+def output_file(given, default, *, what="-o", figure=False):
+    """The file a command will write, checked before any work.
+
+    Parameters
+    ----------
+    given : str or None
+        The option's value; ``""`` is refused, never taken for "not given".
+    default : str or os.PathLike
+        The file written when the option is not given.
+    what : str, keyword-only
+        The option, as messages name it (``"-o"``, ``"--figure"``); a default is named
+        "output file".
+    figure : bool, keyword-only
+        Check a figure (:func:`rockcem.plots.figure_path`: suffix ``.png``, ``.pdf`` or
+        ``.svg`` and an existing folder) instead of a data file
+        (:func:`rockcem._atomic.output_path`).
+
+    Returns
+    -------
+    str or os.PathLike
+        ``given``, else ``default``, as given (for the "wrote ..." line).
+
+    Raises
+    ------
+    ValueError
+        One line, unless the file is a regular file that may be written or a new name in a
+        writable folder (a symbolic link is written through to its target and kept).
+    """
+    if figure:
+        from .plots import figure_path as check
+    else:
+        from ._atomic import output_path as check
+
+    out = default if given is None else given
+    check(out, what=what if given is not None else "output file")
+    return out
 
 
 def _well(args):
@@ -79,6 +119,12 @@ def _fit(args) -> int:
         raise ValueError(f"{args.scene}: fit takes a scene (TOML file or shipped name), not "
                          "the netCDF output of a run")
     scene = load_scene(args.scene)
+    # Both files are checked before the fit: a bad --figure must not come after the TOML.
+    stem = scene_path(args.scene).stem
+    cal_out = output_file(args.output, f"{stem}_well_fit.toml")
+    png_out = output_file(args.figure, f"{stem}_well_fit.png", what="--figure", figure=True)
+    if os.path.realpath(cal_out) == os.path.realpath(png_out):
+        raise ValueError(f"-o and --figure name the same file: {cal_out}")
     well = _well(args)
     free = _free_keys(args.free)                  # bounds None: rockcem.wellfit's defaults
     errors = None
@@ -94,9 +140,8 @@ def _fit(args) -> int:
                     depth=args.depth, errors=errors)
     if not args.quiet:
         print(fit.summary())
-    stem = scene_path(args.scene).stem
-    cal = fit.write_calibration(args.output or f"{stem}_well_fit.toml")
-    png = save_figure(fit_figure(fit, well), args.figure or f"{stem}_well_fit.png")
+    cal = fit.write_calibration(cal_out)
+    png = save_figure(fit_figure(fit, well), png_out)
     if not args.quiet:
         keys = ", ".join(fit.result.values)
         print(f"wrote {cal} and {png}\nto use it: add  calibration = \"{cal}\"  at the top of "
@@ -114,10 +159,11 @@ def plot_with_well(ds, args, path):
     if sweeps:
         raise ValueError(f"--well needs one member: select values of {', '.join(sweeps)} "
                          "with --select")
+    out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}_well.png"),
+                      figure=True)
     well = _well(args)
     fig = plots.well_overlay(ds, well) if args.kind == "depth" else \
         plots.well_template(ds, well)
-    out = args.output or path.with_name(f"{path.stem}_{args.kind}_well.png")
     print(f"wrote {plots.save_figure(fig, out)}")
     return 0
 

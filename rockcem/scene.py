@@ -52,7 +52,7 @@ _REQUIRED = object()
 #: ``models`` section holds one table per model label.
 SCHEMA: dict[str, dict[str, tuple]] = {
     "scene": {
-        "name": (_REQUIRED, "string", "", "scene name (used for the default output file)"),
+        "name": (_REQUIRED, "string", "", "scene name, a plain file name (output <name>.nc)"),
         "description": ("", "string", "", "free text"),
         "lithology": (_REQUIRED, "string", "", "'sandstone' or 'shale'"),
         "outputs": (None, "strings", "",
@@ -247,6 +247,19 @@ def _check_value(where, key, value, kind):
     return value
 
 
+def _check_scene_name(name) -> str:
+    """Check a scene's ``name``: a plain file name, as the default output is ``<name>.nc``.
+
+    Raises ``ValueError`` naming the key for an empty name, one starting with ``.`` (hidden,
+    or ``..``), or one with a path separator (``/`` or ``\\``) or a NUL; returns ``name``.
+    """
+    if not isinstance(name, str) or not name.strip() or name.startswith(".") \
+            or any(c in name for c in "/\\\0"):
+        raise ValueError(f"scene key name must be a plain file name (not empty, no '/' or "
+                         f"'\\', not starting with '.'); got {name!r}")
+    return name
+
+
 def _section(where, given, schema):
     if not isinstance(given, dict):
         raise ValueError(f"scene section [{where}] must be a table")
@@ -284,6 +297,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
             raise ValueError(f"unknown scene key {k!r}"
                              f"{_suggest(k, set(SCHEMA['scene']) | _TOP_SECTIONS)}")
     head = _section("scene", top, SCHEMA["scene"])
+    _check_scene_name(head["name"])
     lithology = head["lithology"]
     if lithology not in ("sandstone", "shale"):
         raise ValueError(f"scene key lithology must be 'sandstone' or 'shale'; got {lithology!r}")

@@ -15,13 +15,13 @@ nor xarray; :mod:`matplotlib.pyplot` is imported inside the functions.
 
 from __future__ import annotations
 
-from ._save import save_figure
+from ._save import figure_path, save_figure
 from ._style import MAX_MEMBERS, MODEL_LABELS
 from .depth import depth_trends
 from .md_study import md_study_velocity, velocity_error
 from .templates import rock_physics_template, velocity_porosity
 from .wells import fit_figure, well_overlay, well_template
 
-__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "fit_figure", "md_study_velocity",
-           "rock_physics_template", "save_figure", "velocity_error", "velocity_porosity",
-           "well_overlay", "well_template"]
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "depth_trends", "figure_path", "fit_figure",
+           "md_study_velocity", "rock_physics_template", "save_figure", "velocity_error",
+           "velocity_porosity", "well_overlay", "well_template"]

@@ -4,12 +4,46 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .._atomic import atomic_write
+from .._atomic import atomic_write, output_path
+from ._style import _SUFFIX_FORMATS
+
+__all__ = ["figure_path", "save_figure"]
 
 
-from ._style import (_SUFFIX_FORMATS)
+def figure_path(path, *, what="path") -> Path:
+    """Check a figure file to write, before the figure is drawn.
 
-__all__ = ["save_figure"]
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination, ending in ``.png``, ``.pdf`` or ``.svg``: a regular file that may be
+        written or a new name in an existing writable folder (a symbolic link is written
+        through to its target; :func:`rockcem._atomic.output_path`).
+    what : str, keyword-only
+        How the messages name it, e.g. ``"--figure"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The absolute path of the file that will be written.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``what``: another suffix, a missing or read-only folder, a folder, FIFO
+        or device node in the way, an empty name.
+
+    Examples
+    --------
+    >>> figure_path("x.xyz", what="--figure")
+    Traceback (most recent call last):
+    ...
+    ValueError: --figure must end in .png, .pdf, .svg; got 'x.xyz'
+    """
+    real = output_path(path, what=what, folder_must_exist=True)
+    if Path(path).suffix.lower() not in _SUFFIX_FORMATS:
+        raise ValueError(f"{what} must end in {', '.join(_SUFFIX_FORMATS)}; got {str(path)!r}")
+    return real
 
 
 def save_figure(fig, path, *, dpi=150):
@@ -25,7 +59,8 @@ def save_figure(fig, path, *, dpi=150):
     fig : matplotlib.figure.Figure
         The figure.
     path : str or os.PathLike
-        Destination, ending in ``.png``, ``.pdf`` or ``.svg``; its folder must exist.
+        Destination, ending in ``.png``, ``.pdf`` or ``.svg``; its folder must exist
+        (:func:`figure_path`; a symbolic link is written through to its target).
     dpi : float, optional
         Resolution of raster output, dots per inch; default 150.
 
@@ -49,14 +84,10 @@ def save_figure(fig, path, *, dpi=150):
 
     path = Path(path)
     try:
-        fmt = _SUFFIX_FORMATS.get(path.suffix.lower())
-        if fmt is None:
-            raise ValueError(f"path must end in {', '.join(_SUFFIX_FORMATS)}; got {str(path)!r}")
+        figure_path(path)
+        fmt = _SUFFIX_FORMATS[path.suffix.lower()]
         if not dpi > 0:
             raise ValueError(f"dpi must be > 0; got {dpi!r}")
-        folder = path.parent
-        if not folder.is_dir():
-            raise ValueError(f"folder {str(folder)!r} does not exist")
         atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=dpi,
                                                    bbox_inches="tight"))
     finally:
