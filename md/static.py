@@ -17,7 +17,8 @@ import numpy as np
 if TYPE_CHECKING:
     from .acoustic import AcousticSystem
 
-__all__ = ["StaticModulus", "static_modulus", "static_moduli", "SOLVERS", "LU_MAX_DOF"]
+__all__ = ["StaticModulus", "static_modulus", "static_moduli", "SOLVERS", "LU_MAX_DOF",
+           "LU_MAX_DOF_FILM", "FILM_DEGREE"]
 
 _AXIS = {"p": 2, "s": 0}
 
@@ -114,9 +115,17 @@ def _bonds_among(system: AcousticSystem, keep):
 #: Static solvers: "lu" factorises K_ff once (fast and exact below some 10^5 free degrees of
 #: freedom), "cg" iterates with a block-Jacobi preconditioner (little memory), "auto" picks.
 SOLVERS = ("auto", "lu", "cg")
-#: Largest number of free degrees of freedom "auto" factorises (the factor of a cemented
-#: sample of 1e5 free dof takes about 0.2 GB and 4 s; of 3e5, 2.2 GB and 80 s).
+#: Largest number of free degrees of freedom "auto" factorises ...
 LU_MAX_DOF = 150_000
+#: ... and, where the cement is film-like (its particles have on average at most
+#: :data:`FILM_DEGREE` lattice bonds), the larger bound. The factor's cost depends on the
+#: cement's shape more than on its size: a thin coating of 3e5 free dof (mean lattice degree
+#: 2) factorises in 7 s, half-filled pores of 3e5 (degree 6.5) take 80 s and 2.2 GB (of 1.8e5,
+#: 16 s and 2.5 GB at the peak; 6.4 GB near 4e5), where block-Jacobi conjugate gradients,
+#: which converge in a few hundred iterations on such well-connected cement, take 35 s; on a
+#: thin coating they need 10^4 iterations or more.
+LU_MAX_DOF_FILM = 1_000_000
+FILM_DEGREE = 4.0
 
 
 def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10, maxiter=None,
@@ -151,7 +160,8 @@ def static_modulus(system: AcousticSystem, wave="p", *, rtol=1e-10, maxiter=None
         (:func:`_lu_preconditioner`), two to five iterations; ``"cg"``: preconditioned by
         :math:`K_{ff}`'s per-particle blocks (block Jacobi), thousands of iterations on thinly
         cemented samples but little memory; ``"auto"``: LU up to :data:`LU_MAX_DOF` free
-        degrees of freedom.
+        degrees of freedom, or :data:`LU_MAX_DOF_FILM` where the cement is film-like (a thin
+        coating, whose factor stays small), else block Jacobi.
 
     Notes
     -----
@@ -197,7 +207,8 @@ def static_moduli(system: AcousticSystem, waves=("p", "s"), *, rtol=1e-10, maxit
     if free_idx.size == 0:
         raise ValueError("no free particle between the end slabs is bonded to them")
     if solver == "auto":
-        solver = "lu" if free_idx.size <= LU_MAX_DOF and not parallel else "cg"
+        cap = LU_MAX_DOF_FILM if _lattice_degree(system) <= FILM_DEGREE else LU_MAX_DOF
+        solver = "lu" if free_idx.size <= cap and not parallel else "cg"
     if solver == "lu" and parallel:
         raise ValueError("parallel applies to solver='cg' only")
     # The solver's vector operations are short: one BLAS thread. More only wait on each other,
@@ -223,6 +234,14 @@ def static_moduli(system: AcousticSystem, waves=("p", "s"), *, rtol=1e-10, maxit
             out[wave] = _measure(system, u.reshape(n, dof), wave, ax, flag, slab, n_slabs,
                                  connected, iterations)
     return out
+
+
+def _lattice_degree(system) -> float:
+    """Mean number of lattice (cement–cement) bonds of a cement particle (0 without cement)."""
+    table = system.lattice_neighbors
+    if table.shape[0] == 0:
+        return 0.0
+    return 2.0 * np.count_nonzero(table >= 0) / table.shape[0]
 
 
 def _measure(system, u, wave, ax, flag, slab, n_slabs, connected, iterations):
