@@ -11,8 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast, check_fractions, check_positive, max_phases,
-                          min_phases, sum_phases)
+from .validation import (as_array, broadcast_phases, check_fractions, check_positive,
+                          max_phases, min_phases, sum_phases)
 from .elastic import Moduli
 
 __all__ = ["Bounds", "voigt", "reuss", "hill", "hashin_shtrikman", "hashin_shtrikman_average",
@@ -47,7 +47,7 @@ def _phases(K, G, fractions):
     K = check_positive("K", as_array("K", K), allow_zero=True)
     G = check_positive("G", as_array("G", G), allow_zero=True)
     f = check_fractions("fractions", as_array("fractions", fractions))
-    K, G, f = broadcast(K=K, G=G, fractions=f)
+    f, K, G = broadcast_phases(("fractions", f), K=K, G=G)
     return K, G, f
 
 

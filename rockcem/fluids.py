@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
-                          sum_phases)
+from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
+                          check_positive, check_range, sum_phases)
 
 __all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]
 
@@ -118,22 +118,33 @@ def gassmann_dry(K_sat, K_min, K_fluid, phi):
     return np.maximum(num / den, 0.0)
 
 
-def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi):
+def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi, *, K_frame=None, K_sat=None):
+    """Checked inputs of the generalized Gassmann pair, broadcast by name: the phase arrays
+    (fractions, ``K_solid``, ``K_frame``) to ``(..., n)``, the others (``K_fluid``, ``phi``,
+    ``K_sat``) to ``(...)``. The fractions and the frame moduli keep their own number of phases
+    ``n``: ``[1.0]`` is not stretched over two solids, nor one frame modulus counted once per
+    solid. Returns ``beta, K_i[, K_mi], K_fluid, phi[, K_sat]``."""
     K_i = check_positive("K_solid", as_array("K_solid", K_solid))
     beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
-    K_fluid = check_positive("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
-    phi = check_range("phi", as_array("phi", phi), 0.0, 1.0, high_open=True)
-    K_i, beta = broadcast(K_solid=K_i, solid_fractions=beta)
-    lead = np.broadcast_shapes(K_i.shape[:-1])
-    try:
-        lead = np.broadcast_shapes(K_i.shape[:-1], K_fluid.shape, phi.shape)
-    except ValueError:
-        raise ValueError(f"shapes do not broadcast together: K_solid/solid_fractions (..., n) with "
-                         f"leading shape {K_i.shape[:-1]}, K_fluid {K_fluid.shape}, "
-                         f"phi {phi.shape}") from None
-    K_i = np.broadcast_to(K_i, lead + K_i.shape[-1:])
-    beta = np.broadcast_to(beta, lead + beta.shape[-1:])
-    return K_i, beta, np.broadcast_to(K_fluid, lead), np.broadcast_to(phi, lead)
+    per_depth = {"K_fluid": check_positive("K_fluid", as_array("K_fluid", K_fluid),
+                                           allow_zero=True),
+                 "phi": check_range("phi", as_array("phi", phi), 0.0, 1.0, high_open=True)}
+    phases = {"K_solid": K_i}
+    if K_frame is not None:
+        phases["K_frame"] = check_positive("K_frame", as_array("K_frame", K_frame),
+                                           allow_zero=True)
+    if K_sat is not None:
+        per_depth["K_sat"] = check_positive("K_sat", as_array("K_sat", K_sat))
+    broadcast(**per_depth)            # a mismatch among these is named with their own shapes
+    out = broadcast_phases(("solid_fractions", beta), **phases,
+                           **{k: v[..., None] for k, v in per_depth.items()})
+    if K_frame is not None and (phases["K_frame"].ndim == 0
+                                or phases["K_frame"].shape[-1] != beta.shape[-1]):
+        raise ValueError(f"K_frame must hold one frame modulus per solid on its last axis "
+                         f"({beta.shape[-1]}, as solid_fractions); got shape "
+                         f"{phases['K_frame'].shape}")
+    n = 1 + len(phases)
+    return (*out[:n], *(a[..., 0] for a in out[n:]))
 
 
 def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
@@ -170,11 +181,8 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     ndarray, shape (...)
         Saturated bulk modulus, GPa.
     """
-    K_i, beta, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi)
-    K_mi = check_positive("K_frame", as_array("K_frame", K_frame), allow_zero=True)
-    K_mi, K_i, beta, Kf, ph = broadcast(K_frame=K_mi, K_solid=K_i, solid_fractions=beta,
-                                        K_fluid=K_fluid[..., None], phi=phi[..., None])
-    K_fluid, phi = Kf[..., 0], ph[..., 0]
+    beta, K_i, K_mi, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi,
+                                                        K_frame=K_frame)
     alpha_i = beta - K_mi / K_i
     alpha = sum_phases(alpha_i)
     compliance = sum_phases((alpha_i - beta * phi[..., None]) / K_i)
@@ -213,17 +221,16 @@ def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     ndarray, shape (...)
         Total frame bulk modulus :math:`K_m`, GPa. Multiply by :math:`w_i` for the per-solid values.
     """
-    K_i, beta, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi)
+    beta, K_i, K_fluid, phi, K_sat = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi,
+                                                         K_sat=K_sat)
     check_positive("K_fluid", K_fluid)
     check_range("phi", phi, 0.0, 1.0, low_open=True, high_open=True)
-    K_sat = check_positive("K_sat", as_array("K_sat", K_sat))
     if np.any(K_fluid >= np.min(K_i, axis=-1)):
         raise ValueError("K_fluid must be below the bulk moduli of all solids for the inverse: a "
                          "fluid as stiff as the solid hides the frame")
     V_K = np.sum(beta * K_i, axis=-1)
     a = (1.0 - phi) * np.sum(beta / K_i, axis=-1) + phi / K_fluid
     b = np.sum(beta / K_i, axis=-1) / V_K
-    K_sat, a, b, V_K = broadcast(K_sat=K_sat, a=a, b=b, V_K=V_K)
     q2 = b - 1.0 / V_K**2          # >= 0 by Cauchy–Schwarz; 0 for one solid
     q1 = -(K_sat * b + a) + 2.0 / V_K
     q0 = K_sat * a - 1.0

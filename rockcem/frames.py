@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
-                          sum_phases)
+from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
+                          check_positive, check_range, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli
 
@@ -64,6 +64,7 @@ def krief(K_min, G_min, phi, A=3.0) -> Moduli:
     """
     K_min = check_positive("K_min", as_array("K_min", K_min))
     G_min = check_positive("G_min", as_array("G_min", G_min), allow_zero=True)
+    broadcast(K_min=K_min, G_min=G_min, phi=as_array("phi", phi), A=as_array("A", A))
     factor = krief_factor(phi, A)
     K_min, G_min, factor = broadcast(K_min=K_min, G_min=G_min, phi=factor)
     return Moduli(K_min * factor, G_min * factor)
@@ -100,7 +101,9 @@ def krief_multimineral(K_solid, G_solid, solid_fractions, phi, A=3.0) -> Moduli:
     K = check_positive("K_solid", as_array("K_solid", K_solid))
     G = check_positive("G_solid", as_array("G_solid", G_solid), allow_zero=True)
     beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
-    K, G, beta = broadcast(K_solid=K, G_solid=G, solid_fractions=beta)
+    beta, K, G, _, _ = broadcast_phases(("solid_fractions", beta), K_solid=K, G_solid=G,
+                                        phi=as_array("phi", phi)[..., None],
+                                        A=as_array("A", A)[..., None])
     factor = krief_factor(phi, A)[..., None]
     hs = hashin_shtrikman_average(K, G, beta)
     V_K = sum_phases(beta * K)

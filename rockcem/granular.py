@@ -28,10 +28,25 @@ __all__ = [
     "constant_cement",
     "increasing_cement",
     "patchy_cement",
+    "MAX_COORDINATION_NUMBER",
+    "MAX_PRESSURE_MPA",
 ]
 
 
+#: Largest mean coordination number accepted: 12 is the most contacts equal spheres can have,
+#: and a pack of mixed sizes averages well below 20 (the upper bound of md.calibrate's fits).
+MAX_COORDINATION_NUMBER = 20.0
+#: Largest effective pressure and bonding pre-stress accepted, MPa (1 GPa): grains crush far
+#: below it, and the effective pressure at the 20 km of the deepest basins is about 500 MPa.
+MAX_PRESSURE_MPA = 1000.0
+
+
 # ----------------------------------------------------------------------------- input checks
+def _coordination(n):
+    return check_range("n (coordination number)", as_array("n", n), 0.0,
+                       MAX_COORDINATION_NUMBER, low_open=True)
+
+
 def _mineral(name, K, G, *, shear_zero=False):
     K = check_positive(f"K{name}", as_array(f"K{name}", K))
     G = check_positive(f"G{name}", as_array(f"G{name}", G), allow_zero=shear_zero)
@@ -49,6 +64,12 @@ def _porosity(phi, phic, name_phic="phic"):
               > np.broadcast_to(phic, np.broadcast_shapes(phi.shape, phic.shape)) * (1 + 1e-12)):
         raise ValueError(f"phi must lie in [0, {name_phic}] for this model")
     return phi, phic
+
+
+def _shapes(**arrays):
+    """Refuse, by name, inputs whose shapes do not broadcast together, before any arithmetic
+    (so that a mismatch is reported with the arguments' names, not numpy's operands')."""
+    broadcast(**{name: as_array(name, value) for name, value in arrays.items()})
 
 
 def _zeta(K, G):
@@ -102,13 +123,15 @@ def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     phic : float or array_like
         Critical porosity of the pack, in (0, 1).
     n : float or array_like
-        Coordination number, ``> 0`` (about 9 for a dense random pack).
+        Coordination number, in (0, :data:`MAX_COORDINATION_NUMBER`] (about 9 for a dense
+        random pack).
     pressure : float or array_like
-        Effective pressure :math:`p_e`, MPa, ``>= 0``.
+        Effective pressure :math:`p_e`, MPa, in [0, :data:`MAX_PRESSURE_MPA`].
     f : float or array_like, optional
         Fraction of grain contacts with no slip, in [0, 1]; default 1.
     delta : float or array_like, optional
-        Bonding pre-stress :math:`\delta`, MPa, ``>= 0``; default 0 (classical Hertz–Mindlin).
+        Bonding pre-stress :math:`\delta`, MPa, in [0, :data:`MAX_PRESSURE_MPA`]; default 0
+        (classical Hertz–Mindlin).
 
     Returns
     -------
@@ -121,12 +144,13 @@ def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     >>> round(float(m.K), 4), round(float(m.G), 4)
     (1.9063, 2.8028)
     """
+    _shapes(K0=K0, G0=G0, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
     K0, G0, nu = _mineral("0", K0, G0)
     phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
-    n = check_positive("n", as_array("n", n))
-    pressure = check_positive("pressure", as_array("pressure", pressure), allow_zero=True)
+    n = _coordination(n)
+    pressure = check_range("pressure", as_array("pressure", pressure), 0.0, MAX_PRESSURE_MPA)
     f = check_range("f", as_array("f", f), 0.0, 1.0)
-    delta = check_positive("delta", as_array("delta", delta), allow_zero=True)
+    delta = check_range("delta", as_array("delta", delta), 0.0, MAX_PRESSURE_MPA)
     p = (pressure + delta) * GPA_PER_MPA
     common = (n * (1.0 - phic) * G0) ** 2 * p / (np.pi**2 * (1.0 - nu) ** 2)
     K = np.cbrt(common / 18.0)
@@ -164,6 +188,7 @@ def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
+    _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
     hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
     phi, phic = _porosity(phi, phic)
     K0 = as_array("K0", K0)
@@ -185,6 +210,7 @@ def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
 
     Parameters and returns as in :func:`soft_sand`; valid for :math:`0 \le \phi \le \phi_c`.
     """
+    _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
     hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
     phi, phic = _porosity(phi, phic)
     K0 = as_array("K0", K0)
@@ -226,7 +252,7 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     phic : float or array_like
         Critical (uncemented) porosity, in (0, 1).
     n : float or array_like
-        Coordination number, ``> 0``.
+        Coordination number, in (0, :data:`MAX_COORDINATION_NUMBER`].
     scheme : {1, 2}
         Cement at the contacts (1) or coating the grains (2).
     thickness : float or array_like
@@ -238,8 +264,9 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     ndarray
         :math:`\alpha`, dimensionless, ``>= 0``.
     """
+    _shapes(phi=phi, phic=phic, n=n, thickness=thickness)
     phi, phic = _porosity(phi, phic)
-    n = check_positive("n", as_array("n", n))
+    n = _coordination(n)
     eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
     if scheme not in (1, 2):
         raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
@@ -276,9 +303,10 @@ def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
         Porosity :math:`\phi`; a value below 0 means the cement radius needs more cement than
         the pore space holds (raises ``ValueError``).
     """
+    _shapes(alpha=alpha, phic=phic, n=n, thickness=thickness)
     alpha = check_positive("alpha", as_array("alpha", alpha), allow_zero=True)
     phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
-    n = check_positive("n", as_array("n", n))
+    n = _coordination(n)
     eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
     if scheme not in (1, 2):
         raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
@@ -374,7 +402,7 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     phic : float or array_like
         Critical porosity, in (0, 1).
     n : float or array_like
-        Coordination number, ``> 0``.
+        Coordination number, in (0, :data:`MAX_COORDINATION_NUMBER`].
     scheme : {1, 2}
         1: cement at grain contacts; 2: cement coating the grains.
     thickness : float or array_like
@@ -405,6 +433,7 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     >>> round(float(m.K), 3), round(float(m.G), 3)
     (8.05, 11.058)
     """
+    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, thickness=thickness)
     K0, G0, nu0 = _mineral("0", K0, G0)
     Kc, Gc, nuc = _mineral("c", Kc, Gc)
     alpha = cement_radius(phi, phic, n, scheme, thickness)
@@ -476,6 +505,7 @@ def constant_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0)
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
+    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, phib=phib, thickness=thickness)
     phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
     _porosity(phib, phic)
     phi, phib = _porosity(phi, phib, "phib")
@@ -499,6 +529,7 @@ def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.
 
     Parameters and returns as in :func:`constant_cement`; valid for :math:`0 \le \phi \le \phi_b`.
     """
+    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, phib=phib, thickness=thickness)
     phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
     _porosity(phib, phic)
     phi, phib = _porosity(phi, phib, "phib")
@@ -560,6 +591,9 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     from .bounds import hashin_shtrikman_upper, hill
     from .inclusions import self_consistent
 
+    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, pressure=pressure,
+            cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
+            thickness=thickness, f=f, delta=delta)
     phi, phic_arr = _porosity(phi, phic)
     phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
     if np.any(phip > phic_arr * (1 + 1e-12)):

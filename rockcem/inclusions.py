@@ -11,7 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import as_array, broadcast, check_fractions, check_positive, max_phases
+from .validation import (as_array, broadcast, broadcast_phases, check_fractions, check_positive,
+                         max_phases)
 from .bounds import hashin_shtrikman, reuss
 from .elastic import Moduli
 
@@ -408,6 +409,7 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     G = check_positive("G", as_array("G", G), allow_zero=True)
     frac = check_fractions("fractions", as_array("fractions", fractions))
     a = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
+    broadcast_phases(("fractions", frac), K=K, G=G, aspect_ratio=a)   # names a mismatch
     if tol <= 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")
     if int(max_iter) < 1:

@@ -24,13 +24,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast, check_fractions, check_positive, check_range,
-                          stack_phases, sum_phases)
+from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
+                          check_positive, check_range, stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
-from .granular import patchy_cement
+from .granular import MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA, patchy_cement
 from .inclusions import _check_engine, _self_consistent
 from .materials import Fluid, Mineral
 
@@ -43,6 +43,10 @@ __all__ = [
     "MODELS",
     "bulk_density",
 ]
+
+
+#: Largest density accepted, g/cm³: above that of osmium (22.6), the densest element.
+MAX_DENSITY = 25.0
 
 
 class RockProperties(NamedTuple):
@@ -87,23 +91,46 @@ def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     Parameters
     ----------
     mineral_density : array_like, shape (n,) or (..., n)
-        Densities of the solids, g/cm³.
+        Densities of the solids, g/cm³, in (0, :data:`MAX_DENSITY`].
     solid_fractions : array_like, shape (..., n)
-        :math:`\beta_i`, fractions per unit volume of solid (sum to 1).
+        :math:`\beta_i`, fractions per unit volume of solid (each in [0, 1], summing to 1), one
+        per solid.
     porosity : array_like, shape (...)
         Porosity, in [0, 1].
-    fluid_density : float or array_like
-        Pore-fluid density, g/cm³.
+    fluid_density : float or array_like, shape (...)
+        Pore-fluid density, g/cm³, in [0, :data:`MAX_DENSITY`] (0: empty pores).
 
     Returns
     -------
     ndarray, shape (...)
-        Bulk density, g/cm³.
+        Bulk density, g/cm³, between the fluid's and the densest solid's.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: a value out of its range, NaN, text, fractions that do not sum to
+        1 or whose number of phases differs from ``mineral_density``'s, shapes that do not
+        broadcast.
+
+    Examples
+    --------
+    Quartz (2.65) and water at 20 % porosity:
+
+    >>> round(float(bulk_density([2.65], [1.0], 0.2, 1.0)), 4)
+    2.32
     """
-    beta = np.asarray(solid_fractions, dtype=float)
-    phi = np.asarray(porosity, dtype=float)
-    solid = sum_phases(beta * np.asarray(mineral_density, dtype=float))
-    return (1.0 - phi) * solid + phi * np.asarray(fluid_density, dtype=float)
+    rho = check_range("mineral_density", as_array("mineral_density", mineral_density), 0.0,
+                      MAX_DENSITY, low_open=True)
+    beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
+    phi = check_range("porosity", as_array("porosity", porosity), 0.0, 1.0)
+    rho_f = check_range("fluid_density", as_array("fluid_density", fluid_density), 0.0,
+                        MAX_DENSITY)
+    broadcast(porosity=phi, fluid_density=rho_f)        # named with their own shapes
+    beta, rho, phi, rho_f = broadcast_phases(("solid_fractions", beta), mineral_density=rho,
+                                             porosity=phi[..., None],
+                                             fluid_density=rho_f[..., None])
+    solid = sum_phases(beta * rho)
+    return (1.0 - phi[..., 0]) * solid + phi[..., 0] * rho_f[..., 0]
 
 
 def _finish(K_dry, G_dry, K_sat, G_sat, density) -> RockProperties:
@@ -237,23 +264,24 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
         Cement volume fraction :math:`\phi_p`, in [0, ``critical_porosity``], with
         :math:`\phi + \phi_p \le 1`.
     pressure : array_like
-        Effective pressure, MPa, ``>= 0``.
+        Effective pressure, MPa, in [0, :data:`rockcem.granular.MAX_PRESSURE_MPA`].
     fluid : Fluid
         Pore fluid.
     critical_porosity : float, optional
-        :math:`\phi_0`; default 0.36.
+        :math:`\phi_0`, in (0, 1); default 0.36.
     coordination_number : float, optional
-        :math:`C`; default 9.
+        :math:`C`, in (0, :data:`rockcem.granular.MAX_COORDINATION_NUMBER`]; default 9.
     contact_cement_limit : float, optional
-        :math:`\phi_{p0}`; default 0.05.
+        :math:`\phi_{p0}`, in (0, ``critical_porosity``]; default 0.05.
     delta : float, optional
-        Bonding pre-stress, MPa; default 100 (40 is the alternative of Fig. 17).
+        Bonding pre-stress, MPa, in [0, :data:`rockcem.granular.MAX_PRESSURE_MPA`]; default 100
+        (40 is the alternative of Fig. 17).
     scheme : {1, 2}
         Cement at contacts (eq. 16) or coating the grains (eq. 18).
     thickness : float, optional
-        MCCT contact thickness :math:`\varepsilon`; default 0 (CCT).
+        MCCT contact thickness :math:`\varepsilon`, ``>= 0``; default 0 (CCT).
     f : float, optional
-        Hertz–Mindlin no-slip fraction; default 1.
+        Hertz–Mindlin no-slip fraction, in [0, 1]; default 1.
 
     Returns
     -------
@@ -262,11 +290,37 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
     if not isinstance(grain, Mineral) or not isinstance(cement, Mineral):
         raise ValueError("grain and cement must be rockcem.materials.Mineral")
     fluid = _fluid(fluid)
+    # Checked here under the names a scene gives them ([models.patchy_cement] keys), so that
+    # no message speaks of the building blocks' symbols (n, phic, phi).
+    phic = check_range("critical_porosity", as_array("critical_porosity", critical_porosity),
+                       0.0, 1.0, low_open=True, high_open=True)
     phi = check_range("porosity", as_array("porosity", porosity), 0.0, 1.0, high_open=True)
     phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
-    phi, phip = broadcast(porosity=phi, cement_fraction=phip)
+    knobs = {
+        "coordination_number": check_range(
+            "coordination_number", as_array("coordination_number", coordination_number), 0.0,
+            MAX_COORDINATION_NUMBER, low_open=True),
+        "pressure": check_range("pressure", as_array("pressure", pressure), 0.0,
+                                MAX_PRESSURE_MPA),
+        "contact_cement_limit": check_range(
+            "contact_cement_limit", as_array("contact_cement_limit", contact_cement_limit), 0.0,
+            1.0, low_open=True),
+        "delta": check_range("delta", as_array("delta", delta), 0.0, MAX_PRESSURE_MPA),
+        "thickness": check_positive("thickness", as_array("thickness", thickness),
+                                    allow_zero=True),
+        "f": check_range("f", as_array("f", f), 0.0, 1.0),
+    }
+    if scheme not in (1, 2) or isinstance(scheme, bool):
+        raise ValueError(f"scheme must be 1 (cement at contacts) or 2 (coating); got {scheme!r}")
+    phi, phip, phic, *_ = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic,
+                                    **knobs)
     if np.any(phi + phip > 1.0 + 1e-12):
         raise ValueError("porosity + cement_fraction must not exceed 1")
+    for name, value in (("porosity", phi), ("cement_fraction", phip),
+                        ("contact_cement_limit", knobs["contact_cement_limit"])):
+        if np.any(value > phic * (1.0 + 1e-12)):
+            raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
+                             f"{name} in [0, critical_porosity])")
     dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, critical_porosity,
                         coordination_number, pressure, phip, contact_cement_limit, scheme,
                         thickness, f, delta)

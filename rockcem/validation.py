@@ -10,12 +10,23 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_array", "check_range", "check_positive", "check_fractions", "broadcast",
-           "stack_phases", "sum_phases", "max_phases", "min_phases"]
+__all__ = ["as_array", "as_scalar", "check_range", "check_positive", "check_fractions",
+           "broadcast", "broadcast_phases", "stack_phases", "sum_phases", "max_phases",
+           "min_phases"]
 
 
 def as_array(name: str, value) -> np.ndarray:
-    """Return ``value`` as a float64 array (a copy is never needed: inputs are never mutated)."""
+    """Return ``value`` as a float64 array (a copy is never needed: inputs are never mutated).
+
+    Refuses, naming ``name``: ``None``, text (``"9"`` is not read as 9: a number given as
+    text is a mistake upstream), complex values and NaN. Infinities pass here; the range
+    checks below refuse them.
+    """
+    if value is None:
+        raise ValueError(f"{name} must be a real number, got None")
+    if isinstance(value, (str, bytes)) or np.asarray(value).dtype.kind in "USO" and any(
+            isinstance(v, (str, bytes)) for v in np.asarray(value, dtype=object).flat):
+        raise ValueError(f"{name} must be a real number, got text {value!r}")
     if np.iscomplexobj(value):
         raise ValueError(f"{name} must be real, got a complex value")
     try:
@@ -25,6 +36,14 @@ def as_array(name: str, value) -> np.ndarray:
     if np.isnan(arr).any():
         raise ValueError(f"{name} contains NaN")
     return arr
+
+
+def as_scalar(name: str, value) -> float:
+    """Return ``value`` as one float (a 0-d or one-element input), refusing arrays by name."""
+    arr = as_array(name, value)
+    if arr.size != 1:
+        raise ValueError(f"{name} must be a single number; got an array of shape {arr.shape}")
+    return float(arr.reshape(()))
 
 
 def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
@@ -47,8 +66,8 @@ def check_positive(name: str, arr: np.ndarray, *, allow_zero: bool = False) -> n
 
 def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> np.ndarray:
     """Check volume fractions along the last axis: each in [0, 1] and summing to 1."""
-    if fractions.ndim == 0:
-        raise ValueError(f"{name} must have the phases on its last axis")
+    if fractions.ndim == 0 or fractions.shape[-1] == 0:
+        raise ValueError(f"{name} must have the phases on its last axis (at least one)")
     check_range(name, fractions, 0.0, 1.0)
     total = sum_phases(fractions)
     if np.any(np.abs(total - 1.0) > atol):
@@ -65,6 +84,34 @@ def broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
     except ValueError:
         shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
         raise ValueError(f"shapes do not broadcast together: {shapes}") from None
+
+
+def broadcast_phases(fractions: tuple[str, np.ndarray], **arrays: np.ndarray) -> list[np.ndarray]:
+    """Broadcast phase arrays (phases on the last axis) with their ``fractions``.
+
+    As :func:`broadcast`, and the fractions keep their own number of phases: a fraction array
+    with one phase never stretches over the phases of the others (``[1.0]`` against two
+    minerals would count the one fraction twice and no longer sum to 1).
+
+    Parameters
+    ----------
+    fractions : (str, ndarray)
+        Name and value of the fractions, checked by :func:`check_fractions`.
+    **arrays
+        The other phase arrays, by name.
+
+    Returns
+    -------
+    list of ndarray
+        The fractions first, then ``arrays`` in order, all of one shape.
+    """
+    fname, f = fractions
+    out = broadcast(**{fname: f}, **arrays)
+    if out[0].shape[-1] != f.shape[-1]:
+        other = next(k for k, v in arrays.items() if np.ndim(v) and np.shape(v)[-1] > 1)
+        raise ValueError(f"{fname} has {f.shape[-1]} phase(s) on its last axis but {other} has "
+                         f"{np.shape(arrays[other])[-1]}: give one fraction per phase")
+    return out
 
 
 def stack_phases(*arrays) -> np.ndarray:

@@ -176,6 +176,17 @@ def test_generalized_inverse_fluid_as_stiff_as_solid_is_a_clear_error():
             generalized_gassmann_dry(5.0, [5.0], [1.0], 5.0, 0.5)
 
 
+def test_generalized_one_solid_of_two_is_that_solid_alone():
+    """With all the solid in one mineral (fractions [1, 0]) the other mineral does not count:
+    Gassmann's equation with that mineral (each of the issue-24 minerals alone: 15-18 GPa)."""
+    for k, K_min in enumerate([36.6, 76.8]):
+        beta = [1.0 - k, float(k)]
+        frame = [10.0 * (1 - k), 10.0 * k]
+        got = generalized_gassmann(frame, [36.6, 76.8], beta, 2.25, 0.2)
+        np.testing.assert_allclose(got, gassmann(10.0, K_min, 2.25, 0.2), rtol=1e-13)
+        assert 15.0 < float(got) < 18.0
+
+
 def test_generalized_broadcasts_over_depths():
     rng = np.random.default_rng(2005)
     beta = rng.dirichlet([1.0, 1.0], size=10)
@@ -231,6 +242,19 @@ BAD = [
                  "phi", id="gen-dry-phi-zero"),
     pytest.param(lambda: generalized_gassmann_dry(3.0, [40.0, 33.0], [0.7, 0.3], 2.2, 0.3),
                  "K_sat", id="gen-dry-below-reuss"),
+    # Issue 24: one fraction against two solids was stretched to [1, 1] after the sum-to-one
+    # check (42.8 GPa); a scalar frame modulus was counted once per solid.
+    pytest.param(lambda: generalized_gassmann(10.0, [36.6, 76.8], [1.0], 2.25, 0.2),
+                 "solid_fractions", id="gen-one-fraction-two-solids"),
+    pytest.param(lambda: generalized_gassmann([10.0, 0.0], [36.6, 76.8], [1.0], 2.25, 0.2),
+                 "solid_fractions", id="gen-one-fraction-two-frames"),
+    pytest.param(lambda: generalized_gassmann(10.0, [36.6, 76.8], [1.0, 0.0], 2.25, 0.2),
+                 "K_frame", id="gen-scalar-frame-two-solids"),
+    pytest.param(lambda: generalized_gassmann_dry(15.0, [36.6, 76.8], [1.0], 2.25, 0.2),
+                 "solid_fractions", id="gen-dry-one-fraction-two-solids"),
+    pytest.param(lambda: generalized_gassmann_dry([15.0] * 3, [36.6, 76.8], [0.5, 0.5], 2.25,
+                                                  [0.2, 0.3]), "K_sat", id="gen-dry-shapes"),
+    pytest.param(lambda: generalized_gassmann(*G2[:3], 2.2, "0.2"), "phi", id="gen-phi-text"),
 ]
 
 

@@ -5,7 +5,7 @@ import pytest
 
 from rockcem.bounds import hashin_shtrikman
 from rockcem.materials import Fluid, Mineral, fluid, mineral
-from rockcem.models import (MODELS, generalized_gassmann_model, hs_gassmann,
+from rockcem.models import (MODELS, bulk_density, generalized_gassmann_model, hs_gassmann,
                             patchy_cement_model, self_consistent_model)
 
 QUARTZ, CEMENT, WATER = mineral("quartz"), mineral("quartz_cement"), fluid("water")
@@ -169,13 +169,59 @@ def test_broadcasting_and_inputs_not_mutated():
     (lambda: hs_gassmann([QUARTZ], [1.0], 0.2, "water"), "fluid"),
     (lambda: hs_gassmann(["quartz"], [1.0], 0.2, WATER), "minerals"),
     (lambda: self_consistent_model([QUARTZ], [1.0], 0.2, WATER, aspect_ratio=-1), "aspect_ratio"),
-    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.4, 0.0, 10.0, WATER), "phi"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.4, 0.0, 10.0, WATER),
+     "porosity must not exceed critical_porosity"),
+    # Model 4 names its own keyword (the scene key), never the building blocks' n or phic.
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 1.0, WATER, coordination_number=-1),
+     r"^coordination_number must lie in \(0, 20\]"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 1.0, WATER, coordination_number=1e300),
+     r"^coordination_number must lie in \(0, 20\]"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 1.0, WATER, coordination_number="9"),
+     r"^coordination_number must be a real number, got text"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 1.0, WATER, critical_porosity=1.2),
+     r"^critical_porosity must lie in \(0, 1\)"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.1, 1.0, WATER, contact_cement_limit=0.5),
+     r"^contact_cement_limit must not exceed critical_porosity"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 1e300, WATER),
+     r"^pressure must lie in \[0, 1000\]"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 10.0, WATER, delta=np.inf),
+     r"^delta must lie in \[0, 1000\]"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, 10.0, WATER, scheme=3), r"^scheme"),
+    (lambda: patchy_cement_model(QUARTZ, CEMENT, [0.3, 0.2], 0.0, [1.0, 2.0, 3.0], WATER),
+     r"porosity \(2,\).*pressure \(3,\)"),
     (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.0, -1.0, WATER), "pressure"),
     (lambda: patchy_cement_model(QUARTZ, CEMENT, 0.3, 0.8, 1.0, WATER), "porosity \\+ cement"),
 ])
 def test_models_bad_input(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_bulk_density_closed_form():
+    """Eq. 24 by hand: (1 - phi) (0.7 * 2.65 + 0.3 * 2.8) + phi * 1.04, two depths."""
+    phi = np.array([0.1, 0.3])
+    want = (1 - phi) * (0.7 * 2.65 + 0.3 * 2.8) + phi * 1.04
+    np.testing.assert_allclose(bulk_density([2.65, 2.8], [0.7, 0.3], phi, 1.04), want,
+                               rtol=1e-15)
+    np.testing.assert_array_equal(bulk_density([2.65], [1.0], [0.0, 1.0], 0.0), [2.65, 0.0])
+
+
+@pytest.mark.parametrize("args, match", [
+    # Issue 24: porosity 1.2 and negative densities gave a density with no word.
+    (([2.65], [1.0], 1.2, 1.0), r"^porosity must lie in \[0, 1\]; got 1.2"),
+    (([2.65], [1.0], -0.1, 1.0), r"^porosity"),
+    (([-2.65], [1.0], 0.2, 1.0), r"^mineral_density must lie in \(0, 25\]"),
+    (([2.65], [1.0], 0.2, -1.0), r"^fluid_density must lie in \[0, 25\]"),
+    (([2.65], [1.0], 0.2, np.inf), r"^fluid_density"),
+    (([2.65], [1.0], 0.2, np.nan), r"^fluid_density contains NaN"),
+    (([2.65], [1.0], 0.2, None), r"^fluid_density must be a real number"),
+    (([2.65, 2.8], [0.7, 0.4], 0.2, 1.0), r"^solid_fractions must sum to 1"),
+    (([2.65, 2.8], [1.0], 0.2, 1.0), r"^solid_fractions has 1 phase"),
+    (([2.65], [1.0], [0.1, 0.2], [1.0, 1.0, 1.0]), r"porosity \(2,\), fluid_density \(3,\)"),
+])
+def test_bulk_density_bad_input(args, match):
+    with pytest.raises(ValueError, match=match):
+        bulk_density(*args)
 
 
 def test_mineral_dataclass_validation():
