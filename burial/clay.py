@@ -5,13 +5,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import GAS_CONSTANT_CAL
+from rockcem.validation import as_array, as_scalar, broadcast, check_positive, check_range
 
 from ._integrals import cumulative_arrhenius
 from .path import BurialPath
 
-__all__ = ["smectite_fraction", "illite_fraction"]
+__all__ = ["smectite_fraction", "illite_fraction", "MAX_ORDER", "MAX_ACTIVATION_ENERGY"]
+
+#: Largest reaction order accepted (Pytte & Reynolds fit 5; published fits lie between 1 and 6).
+MAX_ORDER = 10.0
+#: Largest activation energy accepted, kcal/mol (published values 20–60; 36 in the worked
+#: example); with temperatures above -100 °C it keeps :math:`e^{E/RT}` finite.
+MAX_ACTIVATION_ENERGY = 100.0
 
 
 def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
@@ -38,9 +44,9 @@ def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
     r0 : float or array_like
         Initial smectite fraction, in [0, 1] (0.99 in the worked example).
     order : float
-        Reaction order :math:`n \ge 1`; default 5.
+        Reaction order :math:`n`, in [1, :data:`MAX_ORDER`]; default 5.
     activation_energy : float
-        :math:`E`, kcal/mol, ``> 0``; default 36.
+        :math:`E`, kcal/mol, in (0, :data:`MAX_ACTIVATION_ENERGY`]; default 36.
     frequency_factor : float
         :math:`c`, 1/Myr, ``> 0``; default 1.217e23.
 
@@ -59,16 +65,22 @@ def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
     if not isinstance(path, BurialPath):
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
     r0 = check_range("r0", as_array("r0", r0), 0.0, 1.0)
-    n = float(check_range("order", as_array("order", order), 1.0, np.inf, high_open=True))
-    E = float(check_positive("activation_energy", as_array("activation_energy",
-                                                            activation_energy)))
-    c = float(check_positive("frequency_factor", as_array("frequency_factor", frequency_factor)))
-    J = cumulative_arrhenius(path.time, path.temperature, E * 1000.0 / GAS_CONSTANT_CAL)
+    broadcast(r0=r0, **{"path (leading axes)": path.temperature[..., 0]})
+    n = check_range("order", as_scalar("order", order), 1.0, MAX_ORDER)
+    E = check_range("activation_energy", as_scalar("activation_energy", activation_energy), 0.0,
+                    MAX_ACTIVATION_ENERGY, low_open=True)
+    c = check_positive("frequency_factor", as_scalar("frequency_factor", frequency_factor))
     r0 = np.asarray(r0)[..., None]
-    if n == 1.0:
-        return r0 * np.exp(-c * J)
-    m = n - 1.0
-    return r0 * (1.0 + m * c * J * r0**m) ** (-1.0 / m)
+    # J or c J may overflow to inf for a huge frequency factor or a path of 10^300 Myr: the
+    # limit of a reaction run to completion (r = 0), which the forms below reach; where J = 0
+    # or r0 = 0 nothing has reacted (the products are set to 0 rather than inf * 0).
+    with np.errstate(over="ignore", invalid="ignore"):
+        J = cumulative_arrhenius(path.time, path.temperature, E * 1000.0 / GAS_CONSTANT_CAL)
+        if n == 1.0:
+            return r0 * np.exp(-np.where(J > 0.0, c * J, 0.0))
+        m = n - 1.0
+        z = np.where((J > 0.0) & (r0 > 0.0), m * c * J * r0**m, 0.0)
+        return r0 * (1.0 + z) ** (-1.0 / m)
 
 
 def illite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,

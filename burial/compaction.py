@@ -7,7 +7,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rockcem.validation import as_array, check_positive, check_range
+from rockcem.validation import as_array, broadcast, check_positive, check_range
 
 __all__ = ["athy_porosity", "intergranular_volume", "sandstone_porosity", "SandstonePorosity"]
 
@@ -39,6 +39,7 @@ def athy_porosity(porosity0, effective_pressure, beta=0.01):
     pe = check_positive("effective_pressure", as_array("effective_pressure", effective_pressure),
                         allow_zero=True)
     beta = check_positive("beta", as_array("beta", beta), allow_zero=True)
+    phi0, pe, beta = broadcast(porosity0=phi0, effective_pressure=pe, beta=beta)
     return phi0 * np.exp(-beta * pe)
 
 
@@ -60,22 +61,35 @@ def intergranular_volume(porosity0, effective_pressure, igv_final=0.2, beta=0.01
     beta : float or array_like
         1/MPa, ``>= 0``; default 0.01.
     matrix0 : float or array_like
-        Initial matrix fraction in the pore space :math:`m_0`, ``>= 0``; default 0.
+        Initial matrix fraction in the pore space :math:`m_0`, in [0, 1], with
+        :math:`\phi_0 + m_0 \le 1`; default 0.
 
     Returns
     -------
     ndarray
-        IGV, between ``igv_final`` and :math:`\phi_0 + m_0`.
+        IGV, between ``igv_final`` and :math:`\phi_0 + m_0` (at zero effective pressure).
+
+    Examples
+    --------
+    At zero effective pressure the IGV is the initial pore space and matrix:
+
+    >>> float(intergranular_volume(0.3, 0.0, 0.2, 0.01, 0.1))
+    0.4
     """
     phi0 = check_range("porosity0", as_array("porosity0", porosity0), 0.0, 1.0, low_open=True,
                        high_open=True)
     m0 = check_range("matrix0", as_array("matrix0", matrix0), 0.0, 1.0)
     igv_i = check_range("igv_final", as_array("igv_final", igv_final), 0.0, 1.0)
-    if np.any(igv_i > phi0 + m0):
-        raise ValueError("igv_final must not exceed porosity0 + matrix0")
     pe = check_positive("effective_pressure", as_array("effective_pressure", effective_pressure),
                         allow_zero=True)
     beta = check_positive("beta", as_array("beta", beta), allow_zero=True)
+    phi0, pe, igv_i, beta, m0 = broadcast(porosity0=phi0, effective_pressure=pe,
+                                          igv_final=igv_i, beta=beta, matrix0=m0)
+    if np.any(phi0 + m0 > 1.0):
+        raise ValueError("porosity0 + matrix0 must not exceed 1 (the initial IGV is a fraction)")
+    if np.any(igv_i > phi0 + m0):
+        raise ValueError("igv_final must not exceed porosity0 + matrix0 (the IGV only falls "
+                         "from its initial value)")
     return igv_i + (phi0 + m0 - igv_i) * np.exp(-beta * pe)
 
 
@@ -116,7 +130,7 @@ def sandstone_porosity(intergranular_volume, cement_fraction) -> SandstonePorosi
     igv = check_range("intergranular_volume", as_array("intergranular_volume",
                                                         intergranular_volume), 0.0, 1.0)
     phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
-    igv, phip = np.broadcast_arrays(igv, phip)
+    igv, phip = broadcast(intergranular_volume=igv, cement_fraction=phip)
     if igv.ndim == 0:
         cement = np.minimum(phip, igv)
     else:

@@ -24,16 +24,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .path import MAX_TEMPERATURE_C, BurialPath, path_from_nodes
+from rockcem.validation import as_scalar, check_positive
+
+# The bounds are those of every path (burial.path): a table in feet may trip the depth bound (feet
+# cannot be told from metres in general, so tables state their units), a column in kelvin the
+# temperature at deposition.
+from .path import (MAX_DEPTH_M, MAX_PROFILE_NODES, MAX_SURFACE_TEMPERATURE_C, MAX_TEMPERATURE_C,
+                   MIN_TEMPERATURE_C, BurialPath, path_from_nodes)
 
 __all__ = ["HorizonPaths", "horizon_paths", "shifted_path", "MAX_DEPTH_M",
            "MAX_SURFACE_TEMPERATURE_C"]
-
-#: Depths below this (m) are refused as implausible for a sedimentary column (a table in feet
-#: may trip it; feet cannot be told from metres in general, so tables state their units).
-MAX_DEPTH_M = 20000.0
-#: Temperature at deposition (depth 0) above this (°C) is refused: a column in kelvin trips it.
-MAX_SURFACE_TEMPERATURE_C = 100.0
 
 
 class HorizonPaths(NamedTuple):
@@ -70,9 +70,10 @@ def _check_values(rows, depth, temperature, first):
             raise ValueError(f"row {r + 1}, column depth: {z:g} m is deeper than "
                              f"{MAX_DEPTH_M:g} m; is the column in feet? (give it in m)")
     for r, T in zip(rows, temperature):
-        if not -273.15 <= T <= MAX_TEMPERATURE_C:
+        if not MIN_TEMPERATURE_C <= T <= MAX_TEMPERATURE_C:
             raise ValueError(f"row {r + 1}, column temperature: {T:g} degC lies outside "
-                             f"[-273.15, {MAX_TEMPERATURE_C:g}]; is the column in kelvin?")
+                             f"[{MIN_TEMPERATURE_C:g}, {MAX_TEMPERATURE_C:g}]; is the column "
+                             "in kelvin?")
     if temperature[first] > MAX_SURFACE_TEMPERATURE_C:
         r = rows[first]
         raise ValueError(f"row {r + 1}, column temperature: {temperature[first]:g} degC at "
@@ -97,7 +98,8 @@ def horizon_paths(horizon, time_before_present, depth, temperature) -> HorizonPa
     depth : array_like, shape (rows,)
         Depth below the sediment surface, m, in [0, :data:`MAX_DEPTH_M`]; 0 at deposition.
     temperature : array_like, shape (rows,)
-        °C, in [-273.15, 500]; at most :data:`MAX_SURFACE_TEMPERATURE_C` at deposition.
+        °C, in [:data:`burial.path.MIN_TEMPERATURE_C`, :data:`burial.path.MAX_TEMPERATURE_C`];
+        at most :data:`MAX_SURFACE_TEMPERATURE_C` at deposition.
 
     Returns
     -------
@@ -216,8 +218,9 @@ def shifted_path(time, depth, temperature, *, depth_step=None) -> BurialPath:
     temperature : array_like, shape (n,)
         °C.
     depth_step : float, optional, keyword-only
-        m; if given, nodes are added on each linear piece so that no two reported depths are
-        further apart than this (the path itself is unchanged).
+        m, ``> 0``; if given, nodes are added on each linear piece so that no two reported
+        depths are further apart than this (the path itself is unchanged), at most
+        :data:`burial.path.MAX_PROFILE_NODES` in all.
 
     Returns
     -------
@@ -249,11 +252,15 @@ def shifted_path(time, depth, temperature, *, depth_step=None) -> BurialPath:
                          "increase (for a hiatus or uplift give horizons)")
     _check_values(rows, z, T, 0)
     if depth_step is not None:
-        if not depth_step > 0:
-            raise ValueError(f"depth_step must be > 0; got {depth_step!r}")
+        dz = check_positive("depth_step", as_scalar("depth_step", depth_step))
+        nodes = np.sum(np.ceil(np.diff(z) / dz - 1e-9)) + 1
+        if nodes > MAX_PROFILE_NODES:
+            raise ValueError(f"depth_step {dz:g} m gives {nodes:.3g} nodes down to "
+                             f"{z[-1]:g} m; at most {MAX_PROFILE_NODES} (depth_step >= "
+                             f"{z[-1] / (MAX_PROFILE_NODES - t.size):.3g} m)")
         new = [z[:1]]
         for z0, z1 in zip(z[:-1], z[1:]):
-            k = int(np.ceil((z1 - z0) / depth_step - 1e-9))
+            k = int(np.ceil((z1 - z0) / dz - 1e-9))
             new.append(z0 + (z1 - z0) * np.arange(1, k + 1) / k)
         zn = np.concatenate(new)
         t, T, z = np.interp(zn, z, t), np.interp(zn, z, T), zn

@@ -13,35 +13,97 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import STANDARD_GRAVITY
+from rockcem.validation import (MAX_DENSITY, as_array, as_scalar, broadcast, check_positive,
+                                check_range)
 
-__all__ = ["BurialPath", "linear_path", "path_from_nodes", "pressures", "Pressures"]
+__all__ = ["BurialPath", "linear_path", "path_from_nodes", "pressures", "Pressures",
+           "MAX_TEMPERATURE_C", "MIN_TEMPERATURE_C", "MAX_SURFACE_TEMPERATURE_C", "MAX_DEPTH_M",
+           "MAX_TIME_MYR", "MAX_PROFILE_NODES"]
 
-#: Temperatures above this (°C) are rejected: no diagenetic model here holds there, and a path in
-#: kelvin would trip it.
+#: Temperatures above this (°C) are rejected: no diagenetic model here holds there.
 MAX_TEMPERATURE_C = 500.0
+#: Temperatures below this (°C) are rejected: colder than any sediment (and the Arrhenius
+#: kinetics lose their meaning towards 0 K).
+MIN_TEMPERATURE_C = -100.0
+#: Temperature at the sediment surface (depth 0) above this (°C) is refused: water boils at the
+#: sea floor's pressure well below it, and a temperature in kelvin (288.15 for 15 °C) trips it.
+MAX_SURFACE_TEMPERATURE_C = 100.0
+#: Depths below this (m) are refused as implausible for a sedimentary column (the deepest basins
+#: hold about 20 km of sediment; a table in feet may trip it).
+MAX_DEPTH_M = 20000.0
+#: A linear path that takes longer than this (Myr) to reach its deepest node is refused: the age
+#: of the Earth (4 567 Myr); a sedimentation rate in m/yr instead of m/Myr trips it.
+MAX_TIME_MYR = 4600.0
+#: Most depth nodes a generated profile (:func:`linear_path`, ``shifted_path(depth_step=...)``)
+#: may have: 1 cm steps over 10 km. Every node is a depth of the rock state and of every model,
+#: so more would take gigabytes for no physics (the kinetics are exact for any spacing).
+MAX_PROFILE_NODES = 1_000_000
+
+
+def _kelvin_hint(name, value):
+    return (f"{name} is {value:g} degC at the sediment surface (depth 0), above "
+            f"{MAX_SURFACE_TEMPERATURE_C:g}; is it in kelvin? (give degC: 288.15 K is 15 degC)")
 
 
 @dataclass(frozen=True)
 class BurialPath:
-    """A piecewise-linear burial path.
+    """A piecewise-linear burial path, checked when it is made.
 
     Attributes
     ----------
     time : ndarray, shape (n,) or (..., n)
-        Time since deposition at the nodes, Myr, strictly increasing along the last axis
+        Time since deposition at the nodes, Myr, ``>= 0``, non-decreasing along the last axis:
+        a piece of zero duration adds nothing to any integral
         (:func:`burial.horizons.horizon_paths` pads shorter histories with copies of their
-        first node: pieces of zero duration, which add nothing to any integral).
+        first node); :func:`path_from_nodes` asks for strictly increasing time.
     depth : ndarray, shape (..., n)
-        Burial depth at the nodes, m, ``>= 0``.
+        Burial depth at the nodes, m, ``>= 0``. (The kinetics do not depend on the depth, so no
+        upper bound is set here; :func:`linear_path` and the tables of
+        :mod:`burial.horizons` keep depths within :data:`MAX_DEPTH_M`.)
     temperature : ndarray, shape (..., n)
-        Temperature at the nodes, °C.
+        Temperature at the nodes, °C, in [:data:`MIN_TEMPERATURE_C`,
+        :data:`MAX_TEMPERATURE_C`], and at most :data:`MAX_SURFACE_TEMPERATURE_C` where the
+        depth is 0 (a path in kelvin trips it).
+
+    Raises
+    ------
+    ValueError
+        Naming ``time``, ``depth`` or ``temperature``: not real (complex, text, None), NaN or
+        infinite, out of range, fewer than two nodes, time running backwards, shapes that do
+        not broadcast. ``depth`` and ``temperature`` are broadcast to one shape.
     """
 
     time: np.ndarray
     depth: np.ndarray
     temperature: np.ndarray
+
+    def __post_init__(self):
+        t, z, T = (as_array(name, getattr(self, name))
+                   for name in ("time", "depth", "temperature"))
+        for name, arr in (("time", t), ("depth", z), ("temperature", T)):
+            if arr.ndim == 0 or arr.shape[-1] < 2:
+                raise ValueError(f"{name} must hold at least two nodes along its last axis; "
+                                 f"got shape {arr.shape}")
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"{name} must be finite; got {arr[~np.isfinite(arr)].flat[0]}")
+        check_positive("time (Myr since deposition)", t, allow_zero=True)
+        check_positive("depth (m)", z, allow_zero=True)
+        if np.any(np.diff(t, axis=-1) < 0.0):
+            raise ValueError("time must not decrease from node to node")
+        broadcast(time=t, depth=z, temperature=T)
+        shape = np.broadcast_shapes(z.shape, T.shape)
+        if shape[-1] != t.shape[-1]:
+            raise ValueError(f"depth and temperature must have one value per time node "
+                             f"({t.shape[-1]}); got shapes {z.shape} and {T.shape}")
+        z, T = np.broadcast_to(z, shape), np.broadcast_to(T, shape)
+        hot = (z == 0.0) & (T > MAX_SURFACE_TEMPERATURE_C)
+        if np.any(hot):
+            raise ValueError(_kelvin_hint("temperature", float(T[hot].flat[0])))
+        check_range("temperature (degC; a path in kelvin would exceed the range)", T,
+                    MIN_TEMPERATURE_C, MAX_TEMPERATURE_C)
+        for name, arr in (("time", t), ("depth", z), ("temperature", T)):
+            object.__setattr__(self, name, arr)
 
     @property
     def heating_rate(self) -> np.ndarray:
@@ -54,28 +116,10 @@ class BurialPath:
 
 
 def _validated(time, depth, temperature) -> BurialPath:
-    t = as_array("time", time)
-    z = as_array("depth", depth)
-    T = as_array("temperature", temperature)
-    if t.ndim == 0 or t.shape[-1] < 2:
-        raise ValueError("time must hold at least two nodes along its last axis")
-    if not np.all(np.isfinite(t)) or not np.all(np.isfinite(z)) or not np.all(np.isfinite(T)):
-        raise ValueError("time, depth and temperature must be finite")
-    if np.any(np.diff(t, axis=-1) <= 0.0):
+    path = BurialPath(time, depth, temperature)
+    if np.any(np.diff(path.time, axis=-1) <= 0.0):
         raise ValueError("time must increase strictly from node to node")
-    check_positive("depth", z, allow_zero=True)
-    check_range("temperature (degC; a path in kelvin would exceed the range)", T, -273.15,
-                MAX_TEMPERATURE_C)
-    try:
-        shape = np.broadcast_shapes(t.shape, z.shape, T.shape)
-    except ValueError:
-        raise ValueError(f"time {t.shape}, depth {z.shape} and temperature {T.shape} do not "
-                         "broadcast together (nodes on the last axis)") from None
-    if shape[-1] != t.shape[-1]:
-        raise ValueError("depth and temperature must have one value per time node")
-    z = np.broadcast_to(z, shape)
-    T = np.broadcast_to(T, shape)
-    return BurialPath(t, z, T)
+    return path
 
 
 def path_from_nodes(time, depth, temperature) -> BurialPath:
@@ -87,11 +131,12 @@ def path_from_nodes(time, depth, temperature) -> BurialPath:
     Parameters
     ----------
     time : array_like, shape (n,) or (..., n)
-        Time since deposition, Myr, strictly increasing.
+        Time since deposition, Myr, ``>= 0``, strictly increasing.
     depth : array_like, shape (..., n)
         Burial depth, m, ``>= 0``.
     temperature : array_like, shape (..., n)
-        Temperature, °C, in [-273.15, 500].
+        Temperature, °C, in [:data:`MIN_TEMPERATURE_C`, :data:`MAX_TEMPERATURE_C`]; at most
+        :data:`MAX_SURFACE_TEMPERATURE_C` at depth 0.
 
     Returns
     -------
@@ -122,20 +167,30 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
     Parameters
     ----------
     gradient : float
-        Geothermal gradient :math:`G`, °C/km, ``> 0`` (20–40 typical).
+        Geothermal gradient :math:`G`, °C/km, ``> 0`` (20–40 typical); the path must stay at
+        or below :data:`MAX_TEMPERATURE_C` down to ``max_depth``.
     sedimentation_rate : float
-        Burial rate :math:`S`, m/Myr, ``> 0`` (20–500 typical; 40 in the worked examples).
+        Burial rate :math:`S`, m/Myr, ``> 0`` (20–500 typical; 40 in the worked examples); the
+        deepest node must be buried within :data:`MAX_TIME_MYR`.
     surface_temperature : float
-        :math:`T_0`, °C.
+        :math:`T_0`, °C, in [:data:`MIN_TEMPERATURE_C`, :data:`MAX_SURFACE_TEMPERATURE_C`]
+        (288.15, a surface temperature in kelvin, is refused).
     max_depth : float
-        Deepest node, m, ``> 0``.
+        Deepest node, m, in (0, :data:`MAX_DEPTH_M`].
     depth_step : float, keyword-only
-        Spacing of the nodes, m, ``> 0``; the kinetics are exact for any spacing, so it only sets
-        where values are reported.
+        Spacing of the nodes, m, ``> 0``, with at most :data:`MAX_PROFILE_NODES` nodes down to
+        ``max_depth``; the kinetics are exact for any spacing, so it only sets where values
+        are reported.
 
     Returns
     -------
     BurialPath
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, before any array is made: a value that is not one finite real
+        number, or out of its range.
 
     Examples
     --------
@@ -143,14 +198,31 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
     >>> p.time.tolist(), p.temperature.tolist()
     ([0.0, 25.0, 50.0, 75.0], [15.0, 45.0, 75.0, 105.0])
     """
-    G = float(check_positive("gradient", as_array("gradient", gradient)))
-    S = float(check_positive("sedimentation_rate", as_array("sedimentation_rate",
-                                                            sedimentation_rate)))
-    T0 = float(as_array("surface_temperature", surface_temperature))
-    zmax = float(check_positive("max_depth", as_array("max_depth", max_depth)))
-    dz = float(check_positive("depth_step", as_array("depth_step", depth_step)))
+    G = check_positive("gradient", as_scalar("gradient", gradient))
+    S = check_positive("sedimentation_rate", as_scalar("sedimentation_rate", sedimentation_rate))
+    T0 = as_scalar("surface_temperature", surface_temperature)
+    if T0 > MAX_SURFACE_TEMPERATURE_C and T0 <= MAX_TEMPERATURE_C + 273.15:
+        raise ValueError(_kelvin_hint("surface_temperature", T0))
+    check_range("surface_temperature", T0, MIN_TEMPERATURE_C, MAX_SURFACE_TEMPERATURE_C)
+    zmax = check_range("max_depth", as_scalar("max_depth", max_depth), 0.0, MAX_DEPTH_M,
+                       low_open=True)
+    dz = check_positive("depth_step", as_scalar("depth_step", depth_step))
+    T_bottom = T0 + G * zmax / 1000.0
+    if T_bottom > MAX_TEMPERATURE_C:
+        raise ValueError(f"gradient {G:g} degC/km takes the path from {T0:g} degC to "
+                         f"{T_bottom:.4g} degC at max_depth {zmax:g} m, above the "
+                         f"{MAX_TEMPERATURE_C:g} degC the kinetics hold to; lower the gradient "
+                         "or max_depth")
+    if zmax / S > MAX_TIME_MYR:
+        raise ValueError(f"sedimentation_rate {S:g} m/Myr takes {zmax / S:.4g} Myr to bury "
+                         f"max_depth {zmax:g} m, longer than the age of the Earth "
+                         f"({MAX_TIME_MYR:g} Myr); is it in m/Myr?")
+    if zmax / dz > MAX_PROFILE_NODES - 1:
+        raise ValueError(f"depth_step {dz:g} m gives {zmax / dz + 1:.3g} nodes down to max_depth "
+                         f"{zmax:g} m; at most {MAX_PROFILE_NODES} (depth_step >= "
+                         f"{zmax / (MAX_PROFILE_NODES - 1):.3g} m)")
     depth = np.arange(0.0, zmax, dz)
-    depth = np.append(depth[zmax - depth > 1e-9 * dz], zmax)
+    depth = np.append(depth[zmax - depth > 1e-9 * min(dz, zmax)], zmax)
     return _validated(depth / S, depth, T0 + G * depth / 1000.0)
 
 
@@ -178,7 +250,8 @@ def pressures(path: BurialPath, *, sediment_density=2.5, water_density=1.04) -> 
     path : BurialPath
     sediment_density, water_density : float, keyword-only
         :math:`\bar\rho` and :math:`\bar\rho_w`, g/cm³ (defaults 2.5 and 1.04 as in the paper),
-        with ``sediment_density >= water_density > 0``.
+        with ``sediment_density >= water_density > 0``, at most
+        :data:`rockcem.validation.MAX_DENSITY`.
 
     Returns
     -------
@@ -190,8 +263,12 @@ def pressures(path: BurialPath, *, sediment_density=2.5, water_density=1.04) -> 
     >>> [round(float(v), 4) for v in p.effective]
     [0.0, 14.3226]
     """
-    rho = float(check_positive("sediment_density", as_array("sediment_density", sediment_density)))
-    rho_w = float(check_positive("water_density", as_array("water_density", water_density)))
+    if not isinstance(path, BurialPath):
+        raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
+    rho = check_range("sediment_density", as_scalar("sediment_density", sediment_density), 0.0,
+                      MAX_DENSITY, low_open=True)
+    rho_w = check_range("water_density", as_scalar("water_density", water_density), 0.0,
+                        MAX_DENSITY, low_open=True)
     if rho_w > rho:
         raise ValueError("water_density must not exceed sediment_density")
     factor = 1e-3 * STANDARD_GRAVITY          # MPa per (g/cm3 * m)

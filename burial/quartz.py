@@ -4,18 +4,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcem.validation import as_array, check_positive, check_range
 from rockcem.constants import SECONDS_PER_MYR
+from rockcem.validation import as_array, as_scalar, broadcast, check_positive, check_range
 
 from ._integrals import cumulative_power10
-from .path import BurialPath
+from .path import MAX_TEMPERATURE_C, MIN_TEMPERATURE_C, BurialPath
 
-__all__ = ["quartz_cement", "QUARTZ_MOLAR_MASS", "QUARTZ_DENSITY"]
+__all__ = ["quartz_cement", "QUARTZ_MOLAR_MASS", "QUARTZ_DENSITY", "MAX_RATE_EXPONENT"]
 
 #: Molar mass of quartz, g/mol (Carcione et al. 2022, Sect. 6.2).
 QUARTZ_MOLAR_MASS = 60.09
 #: Density of quartz, g/cm³ (Carcione et al. 2022, Sect. 6.2).
 QUARTZ_DENSITY = 2.65
+#: Largest Walderhaug exponent b accepted, 1/°C: five times Walderhaug's 0.022, and small enough
+#: that 10^(bT) stays finite over the whole temperature range of a path.
+MAX_RATE_EXPONENT = 0.1
 
 
 def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay_coating=0.0, *,
@@ -53,14 +56,23 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
     rate_constant : float, keyword-only
         :math:`a`, mol cm⁻² s⁻¹, ``> 0``; default 1.98e-22.
     rate_exponent : float, keyword-only
-        :math:`b`, °C⁻¹, ``> 0``; default 0.022.
+        :math:`b`, °C⁻¹, in (0, :data:`MAX_RATE_EXPONENT`]; default 0.022.
     start_temperature : float, keyword-only, optional
-        °C below which no cement forms (the integral only counts the hotter parts of the path).
+        °C below which no cement forms (the integral only counts the hotter parts of the path),
+        in [:data:`burial.path.MIN_TEMPERATURE_C`, :data:`burial.path.MAX_TEMPERATURE_C`].
 
     Returns
     -------
     ndarray, shape of ``path.temperature`` broadcast with the parameters
         :math:`\phi_p`, cm³ of cement per cm³ of rock, in :math:`[0, \phi_0]`.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: a value that is not real (complex, text, None), NaN, out of its
+        range, an array where one number is wanted (``rate_constant``, ``rate_exponent``,
+        ``start_temperature``), or parameters whose shapes do not broadcast with each other
+        and the path's leading axes.
 
     Examples
     --------
@@ -71,20 +83,30 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
     >>> quartz_cement(p, 0.36, 0.3, 0.65).round(4).tolist()
     [0.0, 0.0023, 0.0127, 0.0563, 0.1956]
     """
+    if not isinstance(path, BurialPath):
+        raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
     phi0 = check_range("porosity0", as_array("porosity0", porosity0), 0.0, 1.0, low_open=True,
                        high_open=True)
     D_cm = check_positive("grain_size", as_array("grain_size", grain_size)) / 10.0
     f = check_range("quartz_fraction", as_array("quartz_fraction", quartz_fraction), 0.0, 1.0)
     C = check_range("clay_coating", as_array("clay_coating", clay_coating), 0.0, 1.0)
-    a = float(check_positive("rate_constant", as_array("rate_constant", rate_constant)))
-    b = float(check_positive("rate_exponent", as_array("rate_exponent", rate_exponent)))
-    if not isinstance(path, BurialPath):
-        raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
+    broadcast(porosity0=phi0, grain_size=D_cm, quartz_fraction=f, clay_coating=C,
+              **{"path (leading axes)": path.temperature[..., 0]})
+    a = check_positive("rate_constant", as_scalar("rate_constant", rate_constant))
+    b = check_range("rate_exponent", as_scalar("rate_exponent", rate_exponent), 0.0,
+                    MAX_RATE_EXPONENT, low_open=True)
+    if start_temperature is not None:
+        start_temperature = check_range(
+            "start_temperature", as_scalar("start_temperature", start_temperature),
+            MIN_TEMPERATURE_C, MAX_TEMPERATURE_C)
     A0 = (1.0 - C) * 6.0 * f / D_cm                                   # cm², V = 1 cm³
-    k = QUARTZ_MOLAR_MASS * a * A0 / (QUARTZ_DENSITY * phi0)         # 1/s
-    integral = cumulative_power10(path.time, path.temperature, b,
-                                  start_temperature=start_temperature) * SECONDS_PER_MYR
-    k = np.asarray(k)[..., None]
+    # Extreme but valid inputs (a tiny grain size or porosity0, a huge rate constant, a path of
+    # 10^300 Myr) may overflow k or the integral to inf: that is the limit of a pore space filled
+    # at once, phi_p = phi0, reached through the exp below; a zero integral or k adds no cement.
+    with np.errstate(over="ignore", invalid="ignore"):
+        k = np.asarray(QUARTZ_MOLAR_MASS * a * A0 / (QUARTZ_DENSITY * phi0))[..., None]  # 1/s
+        integral = cumulative_power10(path.time, path.temperature, b,
+                                      start_temperature=start_temperature) * SECONDS_PER_MYR
+        x = np.where((k > 0.0) & (integral > 0.0), k * integral, 0.0)
     # phi0 * (1 - exp(-x)) = -phi0 * expm1(-x): accurate for tiny x, exactly < phi0 for any x.
-    return -np.asarray(phi0)[..., None] * np.expm1(-k * integral)
-
+    return -np.asarray(phi0)[..., None] * np.expm1(-x)

@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
+from .validation import (MAX_DENSITY, as_array, broadcast, broadcast_phases, check_fractions,
                           check_positive, check_range, stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
@@ -43,10 +43,6 @@ __all__ = [
     "MODELS",
     "bulk_density",
 ]
-
-
-#: Largest density accepted, g/cm³: above that of osmium (22.6), the densest element.
-MAX_DENSITY = 25.0
 
 
 class RockProperties(NamedTuple):
@@ -91,14 +87,15 @@ def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     Parameters
     ----------
     mineral_density : array_like, shape (n,) or (..., n)
-        Densities of the solids, g/cm³, in (0, :data:`MAX_DENSITY`].
+        Densities of the solids, g/cm³, in (0, :data:`rockcem.validation.MAX_DENSITY`].
     solid_fractions : array_like, shape (..., n)
         :math:`\beta_i`, fractions per unit volume of solid (each in [0, 1], summing to 1), one
         per solid.
     porosity : array_like, shape (...)
         Porosity, in [0, 1].
     fluid_density : float or array_like, shape (...)
-        Pore-fluid density, g/cm³, in [0, :data:`MAX_DENSITY`] (0: empty pores).
+        Pore-fluid density, g/cm³, in [0, :data:`rockcem.validation.MAX_DENSITY`] (0: empty
+        pores).
 
     Returns
     -------

@@ -10,9 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_array", "as_scalar", "check_range", "check_positive", "check_fractions",
-           "broadcast", "broadcast_phases", "stack_phases", "sum_phases", "max_phases",
-           "min_phases"]
+__all__ = ["MAX_DENSITY", "as_array", "as_scalar", "check_range", "check_positive",
+           "check_fractions", "broadcast", "broadcast_phases", "stack_phases", "sum_phases",
+           "max_phases", "min_phases"]
+
+#: Largest density accepted anywhere, g/cm³: above that of osmium (22.6), the densest element.
+MAX_DENSITY = 25.0
 
 
 def as_array(name: str, value) -> np.ndarray:
@@ -54,7 +57,7 @@ def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
     if np.any(bad_low | bad_high):
         lo = "(" if low_open else "["
         hi = ")" if high_open else "]"
-        worst = arr[bad_low | bad_high].flat[0]
+        worst = np.asarray(arr)[bad_low | bad_high].flat[0]
         raise ValueError(f"{name} must lie in {lo}{low:g}, {high:g}{hi}; got {worst:g}")
     return arr
 

@@ -183,7 +183,9 @@ def test_smectite_bounded_and_monotone(r0, H, order):
 
 def test_reaction_nearly_complete_no_underflow_trouble():
     t = np.linspace(0, 1000, 50)
-    p = path_from_nodes(t, 40 * t, np.full(50, 250.0))
+    # Held at 250 degC from the first node on: that node lies buried (250 degC at depth 0 would
+    # be a surface in kelvin, refused).
+    p = path_from_nodes(t, 8000.0 + 40 * t, np.full(50, 250.0))
     r = smectite_fraction(p, 0.99, order=1)
     assert r[-1] < 1e-100 and np.all(np.isfinite(r))
 
