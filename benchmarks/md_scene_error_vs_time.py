@@ -446,6 +446,7 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     ap.add_argument("--seeds-largest", type=int, default=2,
                     help="the largest size runs only the first N of --seeds (time budget)")
+    ap.add_argument("--skip-size", action="store_true", help="run the Omega study (a) only")
     ap.add_argument("--quick", action="store_true",
                     help="Omega 2 3 4, sizes 3x3x8 4x4x12, seeds 0 1")
     ap.add_argument("--keep-work", action="store_true", help="keep the stage files")
@@ -487,7 +488,7 @@ def main(argv=None):
         for omega in sorted(args.omega):
             rows += [dict(r, study="omega") for r in runs(omega_size, omega_seed, omega)]
         print(f"(b) pack size at Omega {size_omega:g}", flush=True)
-        for size in args.sizes:
+        for size in [] if args.skip_size else args.sizes:
             last = size == max(args.sizes, key=np.prod)
             for seed in args.seeds[:args.seeds_largest] if last else args.seeds:
                 rows += [dict(r, study="size") for r in runs(size, seed, size_omega)]

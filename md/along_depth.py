@@ -21,7 +21,9 @@ What happens, in order (the reasoning is in the README, "MD along depth"):
    the long-wave limit that logs see; ``measure="pulse"`` uses pulse-test velocities instead.
 5. With ``resolution_check`` every member is also measured at a coarser :math:`\\Omega`, and
    the first-order Richardson estimate :math:`|X(\\Omega) - X(\\Omega_c)|/(\\Omega/\\Omega_c - 1)`
-   is reported as the resolution error of each modulus.
+   is reported as the resolution error of each modulus; with ``resolution_check2`` as well, at
+   a third, and the error is the Richardson estimate with the observed order where the three
+   are in the asymptotic range (:mod:`md.convergence`), flagged where they are not.
 
 Every compacted pack and every measured member is saved in ``workdir`` (``pack/``,
 ``members/``), so an interrupted run resumes; a stage file made with other options is redone.
@@ -122,8 +124,10 @@ def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key
     pack = load_pack(pack_file)
     res = [_member(pack, fraction, scheme, om, cement, options) for om in omegas]
     values = {"p_modulus": res[0][0], "shear_modulus": res[0][1], "density": res[0][2],
-              "p_modulus_check": res[-1][0] if len(res) > 1 else np.nan,
-              "shear_modulus_check": res[-1][1] if len(res) > 1 else np.nan,
+              "p_modulus_check": res[1][0] if len(res) > 1 else np.nan,
+              "shear_modulus_check": res[1][1] if len(res) > 1 else np.nan,
+              "p_modulus_check2": res[2][0] if len(res) > 2 else np.nan,
+              "shear_modulus_check2": res[2][1] if len(res) > 2 else np.nan,
               "wall_time": time.perf_counter() - t0}
     _atomic_netcdf(xr.Dataset({k: ((), v) for k, v in values.items()},
                               attrs={"options_key": key}), path)
@@ -173,15 +177,16 @@ def _member(pack, fraction, scheme, omega, cement, options):
 
 def _store(out, i, k, values):
     for var in ("p_modulus", "shear_modulus", "density", "p_modulus_check",
-                "shear_modulus_check", "wall_time"):
-        out[var][i, k] = values[var]
+                "shear_modulus_check", "p_modulus_check2", "shear_modulus_check2",
+                "wall_time"):
+        out[var][i, k] = values.get(var, np.nan)
 
 
 def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("coating",),
                size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
-               interface="facet", measure="static", slab=1.0, strain_step=5e-4,
+               resolution_check2=0.0, interface="facet", measure="static", slab=1.0, strain_step=5e-4,
                unload_step=1e-4, workdir, scheduler=None, jobs=1, progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
@@ -211,9 +216,10 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         Settling and pore-body growth seed.
     fall_stiffness_factor : float
         Contact softening while grains fall (:func:`md.settle`).
-    resolution, resolution_check : float
-        Cement lattice resolution :math:`\\Omega` (``>= 1``) and a coarser one for the resolution
-        error (0: none).
+    resolution, resolution_check, resolution_check2 : float
+        Cement lattice resolution :math:`\\Omega` (``>= 1``), a coarser one for the resolution
+        error (0: none) and a third, coarser still, for the three-point estimate (0: none;
+        needs ``resolution_check``).
     interface : str
         Grain–cement interface rule (:mod:`md.interface`).
     measure : {"static", "pulse"}
@@ -243,7 +249,10 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         Dimensions ``point`` (the depths, in the order given) and ``scheme``: ``p_modulus``,
         ``shear_modulus`` (Pa) and the same at the coarser resolution (``p_modulus_check``,
         ``shear_modulus_check``), ``density`` (kg/m³, dry sample), their resolution errors
-        ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``),
+        ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``), the
+        moduli at ``resolution_check2`` (``p_modulus_check2``, ``shear_modulus_check2``) and
+        whether the error is the asymptotic three-point one (``p_modulus_asymptotic``,
+        ``shear_modulus_asymptotic``: 1, else 0),
         ``saturation`` (S_c = cement fraction / pack porosity, at most 1),
         ``cement_overflow`` (1 where the cement exceeds the pores of the core window),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
@@ -289,6 +298,10 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     if resolution_check != 0 and not 1 <= resolution_check < resolution:
         raise ValueError(f"resolution_check must be 0 or lie in [1, {resolution:g}); "
                          f"got {resolution_check}")
+    if resolution_check2 != 0 and not (resolution_check
+                                       and 1 <= resolution_check2 < resolution_check):
+        raise ValueError(f"resolution_check2 must be 0 or lie in [1, resolution_check = "
+                         f"{resolution_check:g}); got {resolution_check2}")
     material = QUARTZ if material is None else material
     cement = HARD_CEMENT if cement is None else cement
     folder = Path(workdir)
@@ -304,11 +317,12 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     lattice_constants(cement, 1.0, rotations=True)     # the rotating lattice takes this cement
     options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
                "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash()}
-    omegas = [float(resolution)] + ([float(resolution_check)] if resolution_check else [])
+    omegas = [float(w) for w in (resolution, resolution_check, resolution_check2) if w]
     n, m = stress.size, len(schemes)
     shape = (n, m)
     out = {k: np.full(shape, np.nan) for k in ("p_modulus", "shear_modulus", "density",
                                                "p_modulus_check", "shear_modulus_check",
+                                               "p_modulus_check2", "shear_modulus_check2",
                                                "saturation", "porosity", "wall_time")}
     overflow = np.zeros(shape, np.int8)
     per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
@@ -349,15 +363,23 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     for task, values in run_tasks(_member_task, todo, scheduler=scheduler, jobs=jobs,
                                   progress=progress, desc="MD members"):
         _store(out, *where[Path(task[6]).name], values)
-    scale = (resolution / resolution_check - 1.0) if resolution_check else np.nan
+    from .convergence import resolution_error
+
     dims = ("point", "scheme")
     data = {k: (dims, v) for k, v in out.items()}
     for k in ("p_modulus", "shear_modulus"):
-        data[f"{k}_error"] = (dims, np.abs(out[k] - out[f"{k}_check"]) / scale)
+        if len(omegas) > 1:
+            err, asym = resolution_error(omegas, np.stack(
+                [out[k], out[f"{k}_check"], out[f"{k}_check2"]][:len(omegas)]))
+        else:
+            err, asym = np.full(shape, np.nan), np.zeros(shape, bool)
+        data[f"{k}_error"] = (dims, err)
+        data[f"{k}_asymptotic"] = (dims, asym.astype(np.int8))
     data["cement_overflow"] = (dims, overflow)
     data.update({k: (("point",), v) for k, v in per_depth.items()})
     return xr.Dataset(data, coords={"scheme": list(schemes)},
                       attrs={"resolution": float(resolution),
                              "resolution_check": float(resolution_check),
+                             "resolution_check2": float(resolution_check2),
                              "interface": interface, "measure": measure, "rotations": 1,
                              "n_grains": int(pack.n_grains)})

@@ -116,7 +116,7 @@ def _bonds_among(system: AcousticSystem, keep):
 #: freedom), "cg" iterates with a block-Jacobi preconditioner (little memory), "auto" picks.
 SOLVERS = ("auto", "lu", "cg")
 #: Largest number of free degrees of freedom "auto" factorises ...
-LU_MAX_DOF = 150_000
+LU_MAX_DOF = 100_000
 #: ... and, where the cement is film-like (its particles have on average at most
 #: :data:`FILM_DEGREE` lattice bonds), the larger bound. The factor's cost depends on the
 #: cement's shape more than on its size: a thin coating of 3e5 free dof (mean lattice degree

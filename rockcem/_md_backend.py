@@ -20,7 +20,8 @@ MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_
                       "md_cement_saturation", "md_cement_overflow", "md_coordination_number")
 #: Diagnostic variables per MD model member and depth.
 MD_MODEL_VARIABLES = ("vp_error_resolution", "vs_error_resolution", "vp_error_sample",
-                      "vs_error_sample", "md_density", "md_wall_time")
+                      "vs_error_sample", "md_resolution_asymptotic", "md_density",
+                      "md_wall_time")
 
 
 def md_labels(params) -> list[str]:
@@ -109,6 +110,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         diagnostics (:data:`MD_DEPTH_VARIABLES`, :data:`MD_MODEL_VARIABLES`).
     """
     from md.along_depth import carry_down
+    from md.convergence import resolution_error
 
     from .bounds import hashin_shtrikman_average
     from .fluids import gassmann
@@ -140,6 +142,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                        fall_stiffness_factor=params["fall_stiffness_factor"],
                        resolution=params["resolution"],
                        resolution_check=params["resolution_check"],
+                       resolution_check2=params["resolution_check2"],
                        interface=params["interface"], measure=params["measure"],
                        slab=params["slab"], workdir=work, scheduler=scheduler, jobs=jobs,
                        progress=progress)
@@ -184,16 +187,22 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     for label, scheme in zip(md_labels(params), params["schemes"]):
         K_dry, G_dry, K_sat, vp, vs = velocities(stack("p_modulus", scheme) / 1e9,
                                                  stack("shear_modulus", scheme) / 1e9)
-        if params["resolution_check"]:
-            # First-order Richardson estimate on the velocities themselves (the P and S
-            # moduli of one resolution change together), averaged over the samples.
-            vp_c, vs_c = velocities(stack("p_modulus_check", scheme) / 1e9,
-                                    stack("shear_modulus_check", scheme) / 1e9)[3:]
-            scale = params["resolution"] / params["resolution_check"] - 1.0
-            vp_res = (np.abs(vp - vp_c) / scale).mean(0)
-            vs_res = (np.abs(vs - vs_c) / scale).mean(0)
+        omegas = [w for w in (params["resolution"], params["resolution_check"],
+                              params["resolution_check2"]) if w]
+        if len(omegas) > 1:
+            # Richardson estimates on the velocities themselves (the P and S moduli of one
+            # resolution change together; md.convergence): first order from two resolutions,
+            # the observed order from three where they are in the asymptotic range; averaged
+            # over the samples, asymptotic where every sample is.
+            coarse = [velocities(stack(f"p_modulus_{c}", scheme) / 1e9,
+                                 stack(f"shear_modulus_{c}", scheme) / 1e9)[3:]
+                      for c in ("check", "check2")[:len(omegas) - 1]]
+            vp_res, vp_asym = resolution_error(omegas, np.stack([vp] + [c[0] for c in coarse]))
+            vs_res, vs_asym = resolution_error(omegas, np.stack([vs] + [c[1] for c in coarse]))
+            vp_res, vs_res = vp_res.mean(0), vs_res.mean(0)
+            asym = (vp_asym & vs_asym).all(0).astype(float)
         else:                                   # no coarser resolution: no error estimate
-            vp_res = vs_res = np.full(idx.size, np.nan)
+            vp_res = vs_res = asym = np.full(idx.size, np.nan)
         # Sample-size error: standard error of the mean over the independent packs.
         vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
                           np.full(idx.size, np.nan) for v in (vp, vs))
@@ -203,15 +212,17 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         per_model[label] = {"vp_error_resolution": full(vp_res),
                             "vs_error_resolution": full(vs_res),
                             "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
+                            "md_resolution_asymptotic": full(asym),
                             "md_density": full(rho.mean(0)),
                             "md_wall_time": full(stack("wall_time", scheme).sum(0))}
     return models, per_depth, per_model
 
 
-def md_warnings(depth, porosity, per_depth) -> list[str]:
+def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
     """Lines for the Dataset's ``validity_warnings``: where the MD sample is more porous than
     burial's rock (elastic spheres do not compact to a buried sandstone's intergranular
-    volume) and where burial's cement overfilled the pack's pores."""
+    volume), where burial's cement overfilled the pack's pores, and (with ``per_model`` from a
+    three-resolution run) where the resolution error is not an asymptotic estimate."""
     ran = np.isfinite(per_depth["md_porosity"])
     lines = []
     gap = per_depth["md_porosity"][ran] - np.asarray(porosity)[ran]
@@ -224,4 +235,12 @@ def md_warnings(depth, porosity, per_depth) -> list[str]:
     if np.any(over):
         lines.append(f"MD model at {', '.join(f'{d:g}' for d in depth[over])} m: burial's cement "
                      "exceeds the MD pack's pores; the pores were filled (md_cement_overflow)")
+    for label, diag in (per_model or {}).items():
+        asym = diag["md_resolution_asymptotic"]
+        off = np.isfinite(asym) & (asym == 0)
+        if np.any(off):
+            lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[off])} m: "
+                         "the three lattice resolutions are not in the asymptotic range (a "
+                         "cement film thinner than a lattice cell); vp_error_resolution and "
+                         "vs_error_resolution there are first-order indications, not bounds")
     return lines

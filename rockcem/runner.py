@@ -301,7 +301,7 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     if "md" in pipe.__dict__:
         from ._md_backend import md_warnings
 
-        warnings += md_warnings(depth, pipe.porosity, pipe.md[1])
+        warnings += md_warnings(depth, pipe.porosity, pipe.md[1], pipe.md[2])
     if warnings:
         attrs["validity_warnings"] = "\n".join(warnings)
     ds = build_dataset(data, coords, attrs)

@@ -151,6 +151,9 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "resolution": (4.0, "number", "cells per radius", "cement lattice resolution Omega"),
         "resolution_check": (3.0, "number", "cells per radius",
                              "coarser Omega for the resolution error (0 = none)"),
+        "resolution_check2": (0.0, "number", "cells per radius",
+                              "a third, coarser Omega: the three-point Richardson error with "
+                              "its observed order, flagged where not asymptotic (0 = none)"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),

@@ -231,3 +231,38 @@ def test_samples_average_independent_packs(result):
         np.testing.assert_allclose(both[f"{v}_error_sample"], abs(zero[v] - one[v]) / 2,
                                    rtol=1e-12)
     assert np.all(np.isfinite(both.vp_error_sample.dropna("depth")))
+
+
+def test_three_resolutions_give_the_richardson_error_or_the_flagged_first_order(result):
+    """With ``resolution_check2`` each MD depth's error is the three-point Richardson estimate
+    where the resolutions are asymptotic; elsewhere it is the two-resolution run's
+    first-order estimate, flagged (md_resolution_asymptotic 0) and named in the warnings.
+    The velocities themselves do not move (the same members at the finest resolution)."""
+    from md.convergence import richardson
+
+    two, path = result
+    three = run_scene(tiny(path, resolution=2.0, resolution_check=1.5, resolution_check2=1.2))
+    ran = np.isfinite(three.vp.sel(model="md").values)
+    m2, m3 = two.sel(model="md").isel(depth=ran), three.sel(model="md").isel(depth=ran)
+    np.testing.assert_array_equal(m3.vp, m2.vp)
+    asym = m3.md_resolution_asymptotic.values
+    assert set(np.unique(asym)) <= {0.0, 1.0}
+    assert np.all(np.isnan(two.md_resolution_asymptotic.sel(model="md").values[ran]) |
+                  (two.md_resolution_asymptotic.sel(model="md").values[ran] == 0))
+    for k in np.flatnonzero(asym == 0):
+        assert m3.vp_error_resolution.values[k] == pytest.approx(
+            m2.vp_error_resolution.values[k], rel=1e-12)
+    # An asymptotic depth: the error is |vp - limit| of the three velocities; recompute them
+    # from a coarse-only run at each resolution (its finest value is that resolution's vp).
+    for k in np.flatnonzero(asym == 1):
+        vps = [float(m3.vp.values[k])]
+        for om in (1.5, 1.2):
+            single = run_scene(tiny(path, resolution=om, resolution_check=0.0))
+            vps.append(float(single.sel(model="md").vp.isel(depth=ran).values[k]))
+        limit, _ = richardson([2.0, 1.5, 1.2], vps)
+        want = 0.0 if vps[0] == vps[1] == vps[2] else abs(vps[0] - limit)   # uncemented
+        assert m3.vp_error_resolution.values[k] == pytest.approx(want, rel=1e-9)
+    warned = "not in the asymptotic range" in three.attrs.get("validity_warnings", "")
+    assert warned == bool(np.any(asym == 0))
+    assert asym[0] == 1 and m3.vp_error_resolution.values[0] == 0     # 1000 m: no cement
+    assert np.any(asym == 0)
