@@ -333,8 +333,10 @@ def finish(df, attrs, tag):
 
     sizes = sorted({tuple(float(x) for x in s.split("x")) for s in df[df.study == "size"]["size"]},
                    key=np.prod)
-    summary = pd.concat([omega_summary(df[df.study == "omega"]),
-                         size_summary(df[df.study == "size"], sizes)], ignore_index=True)
+    parts = [omega_summary(df[df.study == "omega"])]
+    if sizes:                                   # not with --skip-size
+        parts.append(size_summary(df[df.study == "size"], sizes))
+    summary = pd.concat(parts, ignore_index=True)
     _common.write_csv(df, _common.result_path(NAME, "csv", tag), attrs)
     _common.write_csv(summary, _common.result_path(NAME + "_summary", "csv", tag), attrs)
     ds = xr.Dataset.from_dataframe(df.rename_axis("run"))

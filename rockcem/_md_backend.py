@@ -124,6 +124,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     for key, lo in (("resolution", 1.0), ("slab", 0.0)):
         if not params[key] > lo:
             raise ValueError(f"{key} must be > {lo:g}; got {params[key]}")
+    params = resolve_checks(params)
     if not 0 <= params["radius_spread"] < 1:
         raise ValueError(f"radius_spread must lie in [0, 1); got {params['radius_spread']}")
     if len(params["size"]) != 3 or min(params["size"]) < 2:
@@ -216,6 +217,19 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                             "md_density": full(rho.mean(0)),
                             "md_wall_time": full(stack("wall_time", scheme).sum(0))}
     return models, per_depth, per_model
+
+
+def resolve_checks(params) -> dict:
+    """``params`` with the default coarser resolutions filled in: ``resolution_check`` one
+    below ``resolution`` (none below 1) and ``resolution_check2`` one below that (none below
+    1, and none without a first check)."""
+    out = dict(params)
+    if out["resolution_check"] is None:
+        out["resolution_check"] = out["resolution"] - 1.0 if out["resolution"] >= 2 else 0.0
+    if out["resolution_check2"] is None:
+        c = out["resolution_check"]
+        out["resolution_check2"] = c - 1.0 if c and c >= 2 else 0.0
+    return out
 
 
 def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:

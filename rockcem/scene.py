@@ -148,12 +148,14 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "seed": (0, "integer", "", "random seed of settling and pore-body cement"),
         "samples": (1, "integer", "", "independent packs (seeds seed, seed + 1, ...): the "
                     "velocities are their mean, with the standard error as sample-size error"),
-        "resolution": (4.0, "number", "cells per radius", "cement lattice resolution Omega"),
-        "resolution_check": (3.0, "number", "cells per radius",
-                             "coarser Omega for the resolution error (0 = none)"),
-        "resolution_check2": (0.0, "number", "cells per radius",
+        "resolution": (6.0, "number", "cells per radius", "cement lattice resolution Omega"),
+        "resolution_check": (None, "number", "cells per radius",
+                             "coarser Omega for the resolution error (default resolution - 1; "
+                             "0 = none)"),
+        "resolution_check2": (None, "number", "cells per radius",
                               "a third, coarser Omega: the three-point Richardson error with "
-                              "its observed order, flagged where not asymptotic (0 = none)"),
+                              "its observed order, flagged where not asymptotic (default "
+                              "resolution_check - 1 where that is >= 1; 0 = none)"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),

@@ -266,3 +266,19 @@ def test_three_resolutions_give_the_richardson_error_or_the_flagged_first_order(
     assert warned == bool(np.any(asym == 0))
     assert asym[0] == 1 and m3.vp_error_resolution.values[0] == 0     # 1000 m: no cement
     assert np.any(asym == 0)
+
+
+@pytest.mark.parametrize("given,want", [((6.0, None, None), (5.0, 4.0)),
+                                        ((2.0, None, None), (1.0, 0.0)),
+                                        ((1.5, None, None), (0.0, 0.0)),
+                                        ((6.0, 4.0, None), (4.0, 3.0)),
+                                        ((6.0, 0.0, None), (0.0, 0.0)),
+                                        ((6.0, 3.0, 0.0), (3.0, 0.0))])
+def test_default_coarser_resolutions(given, want):
+    """Each check defaults to one below the previous resolution, none below Omega 1; a given
+    value (0 = none) is kept."""
+    from rockcem._md_backend import resolve_checks
+
+    keys = ("resolution", "resolution_check", "resolution_check2")
+    out = resolve_checks(dict(zip(keys, given)))
+    assert (out["resolution_check"], out["resolution_check2"]) == want
