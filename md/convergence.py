@@ -13,21 +13,25 @@ error of the finest value from coarser ones:
   :math:`d_1 = X(\\Omega) - X(\\Omega_1)`, :math:`d_2 = X(\\Omega_1) - X(\\Omega_2)`, and the
   error is :math:`|X(\\Omega) - X_\\infty| = |d_1|\\,\\Omega^{-p} / (\\Omega_1^{-p} - \\Omega^{-p})`.
   The three are taken to be in the asymptotic range when the two changes have one sign and
-  :math:`p` lies in :data:`ORDER_RANGE`; elsewhere the estimate falls back to the first-order
-  two-point one and is flagged: it is then an indication, not a bound (a thin coating, thinner
-  than a lattice cell, changes by 10 % per step of :math:`\\Omega` up to 8 and more: the
-  benchmark ``md_scene_error_vs_time``).
+  :math:`p` lies in :data:`ORDER_RANGE`. Where both changes are below :data:`SETTLED` of the
+  finest value the sequence has settled to the lattice's noise (changes of either sign): the
+  error is then the first-order two-point estimate, which bounds those changes. Elsewhere the
+  estimate falls back to the same first-order one and is flagged: it is then an indication,
+  not a bound (a coating thinner than a lattice cell gains 3 to 10 % per step of
+  :math:`\\Omega` up to 10: the benchmark ``md_scene_error_vs_time``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ORDER_RANGE", "richardson", "resolution_error"]
+__all__ = ["ORDER_RANGE", "SETTLED", "richardson", "resolution_error"]
 
 #: Observed orders accepted as asymptotic (the lattice's own order is 1 to 2; the benchmark
 #: ``md_omega_convergence`` uses the same range).
 ORDER_RANGE = (0.5, 3.0)
+#: Largest change between resolutions, relative to the finest value, of a settled sequence.
+SETTLED = 0.01
 
 
 def richardson(omegas, values):
@@ -91,9 +95,11 @@ def resolution_error(omegas, values):
     (numpy.ndarray, numpy.ndarray)
         The absolute error of ``values[0]`` (shape ``values.shape[1:]``), and a bool array:
         True where three resolutions are in the asymptotic range (the error is the Richardson
-        estimate with the observed order) or give one value (the error is zero: an uncemented
-        sample does not see the lattice), False where the error is the first-order two-point
-        estimate (always with two resolutions).
+        estimate with the observed order), have settled (both changes below :data:`SETTLED`
+        of the finest value; the first-order estimate) or give one value (the error is zero:
+        an uncemented sample does not see the lattice); False where the error is the
+        first-order two-point estimate of an unsettled sequence (always with two
+        resolutions).
     """
     o = np.asarray(omegas, dtype=float)
     v = np.asarray(values, dtype=float)
@@ -112,6 +118,9 @@ def resolution_error(omegas, values):
         column = v[(slice(None), *k)]
         if np.all(column == column[0]):
             error[k], asymptotic[k] = 0.0, True
+            continue
+        if np.all(np.abs(np.diff(column)) <= SETTLED * abs(column[0])):
+            asymptotic[k] = True            # settled: the first-order estimate stands
             continue
         limit, _ = richardson(o, column)
         if np.isfinite(limit):

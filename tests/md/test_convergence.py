@@ -45,6 +45,16 @@ def test_resolution_error_with_three_resolutions():
     assert err[1] == pytest.approx(1.0 / (6.0 / 5.0 - 1.0))
 
 
+def test_settled_sequence_keeps_the_first_order_error():
+    """Changes of either sign below 1 % of the value (the lattice's noise, as at half-filled
+    pores): counted as converged, with the first-order two-point error."""
+    err, asym = resolution_error([6.0, 5.0, 4.0], np.array([[39.45, 30.0], [39.56, 33.0],
+                                                            [39.63, 31.0]]))
+    assert asym.tolist() == [True, False]
+    assert err[0] == pytest.approx(0.11 / 0.2)
+    assert err[1] == pytest.approx(3.0 / 0.2)
+
+
 def test_resolution_independent_values_have_no_error():
     """One value at every resolution (an uncemented sample): error zero, not flagged."""
     err, asym = resolution_error([6.0, 5.0, 4.0], np.full((3, 2), 4.2))
