@@ -130,9 +130,65 @@ def _md_summary(ds, *, width=100) -> str:
     return "\n".join(lines)
 
 
+#: Seconds ``--scheduler ADDRESS`` waits for the scheduler to answer before the run starts
+#: (dask's own client waits 30 s, and only when the first task is sent).
+SCHEDULER_CONNECT_TIMEOUT_S = 5.0
+
+
+def _check_scheduler(address):
+    """Refuse ``--scheduler`` in one line before any work unless it is ``local`` or a TCP
+    address (``tcp://host:port``, ``tls://...`` or ``host:port``) where something answers
+    within :data:`SCHEDULER_CONNECT_TIMEOUT_S` (other dask protocols are passed on as given)."""
+    import asyncio
+    import socket
+    from urllib.parse import urlsplit
+
+    if address is None or address == "local":
+        return
+    where = address if "://" in address else f"tcp://{address}"
+    try:
+        url = urlsplit(where)
+        host, port = url.hostname, url.port
+    except ValueError:
+        host = port = None
+    if url.scheme not in ("tcp", "tls"):
+        return
+    if not host or port is None:
+        raise ValueError(f"--scheduler {address!r}: expected 'local' or a dask scheduler "
+                         "address such as tcp://host:8786")
+    def refuse(reason):
+        return ValueError(f"--scheduler {address}: no dask scheduler answers at {host}:{port} "
+                          f"({reason}); start one (`dask scheduler`) or use --scheduler local")
+
+    try:
+        with socket.create_connection((host, port), timeout=SCHEDULER_CONNECT_TIMEOUT_S):
+            pass
+    except OSError as exc:
+        raise refuse("timed out" if isinstance(exc, TimeoutError)
+                     else (exc.strerror or str(exc))) from None
+    try:
+        from distributed.comm import connect
+    except ImportError:
+        raise ValueError("--scheduler needs the 'dask' extra: pip install 'rockcem[dask]'"
+                         ) from None
+
+    async def handshake():
+        comm = await connect(where, timeout=SCHEDULER_CONNECT_TIMEOUT_S)
+        await comm.close()
+
+    # Something listens there: is it dask? (A server that is not can make dask's handshake read
+    # a garbage length and ask for exabytes, or never answer.)
+    try:
+        asyncio.run(asyncio.wait_for(handshake(), 2 * SCHEDULER_CONNECT_TIMEOUT_S))
+    except (OSError, TimeoutError, MemoryError, ValueError) as exc:
+        raise refuse(f"something listens there, but not a dask scheduler: "
+                     f"{type(exc).__name__}") from None
+
+
 def _run(args) -> int:
     from .scene import read_scene_toml, run_scene, scene_from_dict, scene_path, write_dataset
 
+    _check_scheduler(args.scheduler)
     raw, text = read_scene_toml(args.scene)
     if "md" in raw:
         return _run_md(raw, args)

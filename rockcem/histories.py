@@ -90,6 +90,11 @@ def read_history_table(path, kind) -> dict:
         m = _HEADER.match(str(header))
         name = m.group(1).lower() if m else str(header)
         name = "time" if name == "age" and kind == "horizons" else name
+        if name in found:
+            # pandas renames a repeated header 'x' to 'x.1'; an age and a time column both
+            # give the time: whichever came last was used, with no word.
+            raise ValueError(f"history table {path.name}: columns {found[name][0]!r} and "
+                             f"{header!r} both give the {name}; keep one")
         found[name] = (header, m.group(2) if m else None)
     out = {}
     for col in _COLUMNS[kind]:

@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .validation import as_array, as_scalar, check_range
+
 __all__ = ["ALIASES", "UNITS", "DEPTH_NAMES", "WELL_VARIABLES", "read_well", "read_las",
            "read_csv", "model_at_well", "well_misfit"]
 
@@ -101,6 +103,14 @@ def _numbers(where, values):
         raise
 
 
+def _depth_offset(value):
+    """``depth_offset`` as a finite number of metres no larger than the deepest basin."""
+    from burial.path import MAX_DEPTH_M
+
+    return check_range("depth_offset (m)", as_scalar("depth_offset", value), -MAX_DEPTH_M,
+                       MAX_DEPTH_M)
+
+
 def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
     """The Dataset from ``columns = [(mnemonic, unit, values), ...]``, depth first."""
     from .variables import build_dataset
@@ -116,7 +126,7 @@ def _dataset(source, columns, *, well="", null=-999.25, depth_offset=0.0):
         row = int(np.flatnonzero(~np.isfinite(depth) | (depth == null))[0])
         raise ValueError(f"{source}: depth curve {name!r} has no value in data row {row + 1}")
     depth = depth * _factor(f"{source}: depth curve {name!r}", "depth", depth_unit) \
-        - float(depth_offset)
+        - _depth_offset(depth_offset)
     order = np.argsort(depth, kind="stable")
     depth = depth[order]
     if np.any(np.diff(depth) <= 0.0):
@@ -294,7 +304,8 @@ def read_well(path, *, depth_offset=0.0, null=-999.25):
         (first column the depth; headers ``NAME (unit)`` or ``NAME [unit]``; ``#`` comments).
     depth_offset : float, keyword-only
         m, subtracted from the log depth to give depth below the sediment surface, the depth of
-        the scenes (e.g. the kelly-bushing height plus the water depth). Default 0. The depth
+        the scenes (e.g. the kelly-bushing height plus the water depth), finite, in
+        [-:data:`burial.path.MAX_DEPTH_M`, :data:`burial.path.MAX_DEPTH_M`]. Default 0. The depth
         curve is taken as true vertical depth: the measured depth (``MD``) of a deviated well
         must be converted first.
     null : float, keyword-only
@@ -383,7 +394,8 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
     well : xarray.Dataset
         From :func:`read_well`.
     intervals : sequence of float, optional
-        Interval boundaries, m, increasing (``[1000, 2000, 3000]`` gives two intervals).
+        Interval boundaries, m, finite and increasing (``[1000, 2000, 3000]`` gives two
+        intervals).
         Default: one interval over the depths both cover.
     variables : sequence of str, optional
         Default: all shared ones.
@@ -411,9 +423,10 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
         raise ValueError(f"the well ({float(well.depth.min()):g}-{float(well.depth.max()):g} m)"
                          f" and the scene ({float(ds.depth.min()):g}-"
                          f"{float(ds.depth.max()):g} m) share no depth range")
-    edges = np.asarray([lo, hi] if intervals is None else intervals, dtype=float)
-    if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
-        raise ValueError(f"intervals must be at least two increasing depths; got "
+    edges = as_array("intervals", [lo, hi] if intervals is None else intervals)
+    if edges.ndim != 1 or edges.size < 2 or not np.all(np.isfinite(edges)) \
+            or np.any(np.diff(edges) <= 0):
+        raise ValueError(f"intervals must be at least two finite, increasing depths (m); got "
                          f"{edges.tolist()}")
     z = well.depth.values
     rows = []

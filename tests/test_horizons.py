@@ -165,6 +165,20 @@ def test_csv_table_with_units_in_the_header(sandstone_raw, tmp_path):
                             base_dir=tmp_path)
 
 
+@pytest.mark.parametrize("header", ["horizon,age (Ma),time (Myr),depth (m),temperature (degC)",
+                                    "horizon,time (Myr),age (Ma),depth (m),temperature (degC)",
+                                    "horizon,time (Ma),depth (m),Time (Myr),temperature (degC)"])
+def test_csv_table_with_two_time_columns_is_refused(tmp_path, header):
+    """Issue 24: with both an age and a time column the last one was used, with no word."""
+    from rockcem.histories import read_history_table
+
+    f = tmp_path / "h.csv"
+    f.write_text(header + "\nA,30,20,0,15\nA,0,0,1000,45\n")
+    with pytest.raises(ValueError, match=r"h.csv: columns '.*' and '.*' both give the time; "
+                                         "keep one"):
+        read_history_table(f, "horizons")
+
+
 @pytest.mark.parametrize("path, message", [
     ({"kind": "horizons", "gradient": 30.0}, "path.gradient does not apply to kind"),
     ({"kind": "linear", "table": "x.csv"}, "path.table does not apply to kind"),

@@ -197,3 +197,46 @@ def test_depth_unit_from_the_start_depth_when_the_curve_has_none(tmp_path):
                  .replace("STEP.FT", "STEP.  "))
     with pytest.raises(ValueError, match="depth curve 'DEPT': no unit given"):
         read_well(f)
+
+
+@pytest.mark.parametrize("intervals, match", [
+    # Issue 24: `compare --intervals nan 1000` printed a table of NaN with exit code 0.
+    ([np.nan, 300.0], "intervals contains NaN"),
+    ([100.0, np.inf], "finite"),
+    ([-np.inf, 300.0], "finite"),
+    ([300.0, 100.0], "increasing"),
+    (["100", "300"], "intervals must be a real number"),
+])
+def test_misfit_intervals_must_be_finite_and_increasing(intervals, match):
+    from rockcem.variables import build_dataset
+    from rockcem.wells import well_misfit
+
+    z = np.array([100.0, 200.0, 300.0])
+    scene = build_dataset({"vp": (("depth",), [2.0, 2.5, 3.0])}, {"depth": (("depth",), z)})
+    with pytest.raises(ValueError, match=match):
+        well_misfit(scene, scene, intervals=intervals)
+
+
+@pytest.mark.parametrize("offset, match", [
+    (np.nan, "depth_offset contains NaN"), (np.inf, "depth_offset"), (-np.inf, "depth_offset"),
+    (1e300, r"depth_offset \(m\) must lie in \[-20000, 20000\]"), ([1.0, 2.0], "depth_offset"),
+])
+def test_depth_offset_must_be_a_finite_depth(tmp_path, offset, match):
+    """NaN or inf gave NaN or -inf depths."""
+    f = tmp_path / "w.csv"
+    f.write_text("DEPT (m),DT (us/ft)\n1000,100\n2000,80\n")
+    with pytest.raises(ValueError, match=match):
+        read_well(f, depth_offset=offset)
+    np.testing.assert_array_equal(read_well(f, depth_offset=25.0).depth, [975.0, 1975.0])
+
+
+def test_cli_compare_nan_interval_one_line(tmp_path, capsys):
+    from rockcem.cli import main
+
+    f = tmp_path / "w.csv"
+    f.write_text("DEPT (m),DT (us/ft)\n1000,100\n2000,80\n")
+    for args in (["--intervals", "nan", "1000"], ["--depth-offset", "inf"]):
+        assert main(["compare", "carcione2022_shale", "--well", str(f), *args]) == 2
+        captured = capsys.readouterr()
+        assert captured.err.count("\n") == 1 and captured.err.startswith("rockcem: error:")
+        assert "nan" not in captured.out.lower()

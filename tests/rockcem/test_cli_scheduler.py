@@ -1,0 +1,95 @@
+"""`rockcem run --scheduler ADDRESS`: an address where no dask scheduler answers is refused in
+one line before the run, within a few seconds (issue 24: a traceback after 30 s)."""
+
+import socket
+import threading
+import time
+
+import pytest
+
+from rockcem.cli import SCHEDULER_CONNECT_TIMEOUT_S, _check_scheduler, main
+
+SWEEP = """name = "sw"
+lithology = "shale"
+outputs = ["porosity"]
+[path]
+max_depth = 1000.0
+depth_step = 250.0
+[sweep]
+"path.gradient" = [20.0, 30.0]
+"""
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def garbage_server():
+    """A TCP server that is not dask: it answers every connection with 16 bytes of 0xff."""
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen()
+    srv.settimeout(0.2)
+    stop = threading.Event()
+
+    def serve():
+        while not stop.is_set():
+            try:
+                conn, _ = srv.accept()
+            except OSError:
+                continue
+            with conn:
+                conn.sendall(b"\xff" * 16)
+                time.sleep(0.5)
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield srv.getsockname()[1]
+    stop.set()
+    thread.join()
+    srv.close()
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1:{port}", "127.0.0.1:{port}"])
+def test_nothing_listening_is_one_line_before_the_run(tmp_path, capsys, monkeypatch, address):
+    from rockcem import scene
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the scene ran before the scheduler was checked")
+
+    monkeypatch.setattr(scene, "run_scene", refuse)
+    (tmp_path / "sw.toml").write_text(SWEEP)
+    address = address.format(port=_free_port())
+    start = time.monotonic()
+    code = main(["run", str(tmp_path / "sw.toml"), "-o", str(tmp_path / "sw.nc"),
+                 "--scheduler", address])
+    assert time.monotonic() - start < SCHEDULER_CONNECT_TIMEOUT_S
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith("rockcem: error: --scheduler ") and err.count("\n") == 1, err
+    assert "no dask scheduler answers" in err and "--scheduler local" in err
+    assert not (tmp_path / "sw.nc").exists()
+
+
+def test_a_server_that_is_not_dask_is_refused(garbage_server):
+    start = time.monotonic()
+    with pytest.raises(ValueError, match="something listens there, but not a dask scheduler"):
+        _check_scheduler(f"tcp://127.0.0.1:{garbage_server}")
+    assert time.monotonic() - start < 2 * SCHEDULER_CONNECT_TIMEOUT_S + 1
+
+
+@pytest.mark.parametrize("address", ["tcp://host", "tcp://host:port", "nonsense::", ":8786"])
+def test_malformed_address(address):
+    with pytest.raises(ValueError, match=r"expected 'local' or a dask scheduler address"):
+        _check_scheduler(address)
+
+
+def test_a_dask_scheduler_and_local_pass():
+    distributed = pytest.importorskip("distributed")
+    _check_scheduler(None)
+    _check_scheduler("local")
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as c:
+        _check_scheduler(c.scheduler_address)
