@@ -10,6 +10,9 @@ scene is run again in a fresh child interpreter, so each time only the members a
 (plus reading the stages back). Timings include the workers' start (imports, numba cache loads,
 the dask cluster). The velocities of every run must equal the serial run's to the bit.
 
+``--work FOLDER`` reuses the pack stages of an earlier run of the same scene (such as
+``results/md_scene_example_work``) instead of making them first.
+
 Output: ``results/md_scene_parallel[_<tag>].csv`` and the table on stdout. Run:
 ``python benchmarks/md_scene_parallel.py [--scene carcione2022_sandstone_md --repeat 2]``
 (about three times the member time; the machine should be otherwise idle: the ratio measures
@@ -23,6 +26,7 @@ import _common  # noqa: I001  (first: pins threads before numpy is imported)
 import argparse  # noqa: E402
 import json  # noqa: E402
 import shutil  # noqa: E402
+from pathlib import Path  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 
@@ -60,14 +64,22 @@ def main(argv=None):
     parser.add_argument("--scene", default="carcione2022_sandstone_md")
     parser.add_argument("--repeat", type=int, default=2, help="interleaved runs per config")
     parser.add_argument("--tag", default="")
+    parser.add_argument("--work", default=None,
+                        help="stage folder of an earlier run of the same scene (e.g. "
+                        "results/md_scene_example_work): its packs are reused, no first run")
     args = parser.parse_args(argv)
     if args.repeat < 1:
         parser.error("--repeat must be >= 1")
     _common.announce_source()
     root = str(_common.ROOT)
-    work = _common.RESULTS / f"{NAME}_work"
-    print(f"making the pack stages in {work} ...", flush=True)
-    _child(root, args.scene, work, None, 1)
+    if args.work:
+        work = Path(__file__).resolve().parent / args.work     # absolute stays absolute
+        if not any(work.glob("*/pack")):
+            parser.error(f"--work {args.work}: no pack stages there")
+    else:
+        work = _common.RESULTS / f"{NAME}_work"
+        print(f"making the pack stages in {work} ...", flush=True)
+        _child(root, args.scene, work, None, 1)
     rows, reference = [], None
     for rep in range(args.repeat):
         for label, (scheduler, jobs) in CONFIGS.items():

@@ -255,7 +255,6 @@ def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
         if np.any(off):
             lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[off])} m: "
                          "the three lattice resolutions are neither in the asymptotic range "
-                         "nor settled (as a coating thinner than a lattice cell is not); "
-                         "vp_error_resolution and vs_error_resolution there are first-order "
-                         "indications, not bounds")
+                         "nor settled within 1 %; vp_error_resolution and vs_error_resolution "
+                         "there are first-order indications, not bounds")
     return lines
