@@ -262,6 +262,9 @@ def _reduced(scene, well, variables, model, *, models_only=False):
             model = scene.models[0]
         if model not in scene.models:
             raise ValueError(f"model {model!r} is not in the scene ({', '.join(scene.models)})")
+        if model == "md":
+            raise ValueError("the MD backend takes minutes per evaluation and cannot be fitted; "
+                             "fit one of the other models (model=...)")
         raw["models"] = {model: raw.get("models", {}).get(model, {})}
     else:
         model = None

@@ -377,6 +377,28 @@ def model_at_well(ds, well, name):
     return ds[name].interp(depth=well.depth.values, method="linear")
 
 
+def _sparse_points(ds, values):
+    """Depths of a model valued at fewer than half the scene's depths (None if it is not)."""
+    finite = np.isfinite(values.values)
+    if values.ndim != 1 or not finite.any() or finite.sum() * 2 >= finite.size:
+        return None
+    return ds.depth.values[finite]
+
+
+def _point_misfit(ds, values, log, points):
+    """Relative misfit m/o - 1 at each of ``points``, o the mean of the log within half a
+    scene depth step (NaN where the log has no finite sample there)."""
+    z = log.depth.values
+    half = 0.5 * float(np.median(np.diff(ds.depth.values))) if ds.depth.size > 1 else 0.5
+    out = np.full(points.size, np.nan)
+    for k, p in enumerate(points):
+        near = log.values[(z >= p - half) & (z <= p + half)]
+        near = near[np.isfinite(near)]
+        if near.size:
+            out[k] = float(values.sel(depth=p)) / near.mean() - 1.0
+    return out
+
+
 def well_misfit(ds, well, *, intervals=None, variables=None):
     r"""Misfit of each model to a well log in each depth interval.
 
@@ -385,7 +407,10 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
     samples ``n`` with a finite value inside the scene's depth range, the root-mean-square
     relative misfit :math:`\sqrt{\overline{(m/o - 1)^2}}` and the mean relative bias
     :math:`\overline{m/o - 1}` (:math:`m` the model at the log's depths, linear between scene
-    depths; :math:`o` the log). The last interval includes its base.
+    depths; :math:`o` the log). The last interval includes its base. A model computed at a few
+    depths only (the MD backend, NaN elsewhere) is compared point by point instead: at each of
+    its depths :math:`o` is the mean of the log's samples within half a scene depth step of it
+    (the depth a continuous model's sample stands for), and ``n`` counts those depths.
 
     Parameters
     ----------
@@ -434,11 +459,16 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
         modelled = model_at_well(ds, well, name)
         labels = modelled.model.values.tolist() if "model" in modelled.dims else ["-"]
         for label in labels:
-            m = modelled.sel(model=label).values if label != "-" else modelled.values
-            rel = m / well[name].values - 1.0
+            own = ds[name].sel(model=label) if label != "-" else ds[name]
+            points = _sparse_points(ds, own)
+            if points is not None:          # a model at a few depths (the MD backend)
+                zz, rel = points, _point_misfit(ds, own, well[name], points)
+            else:
+                m = modelled.sel(model=label).values if label != "-" else modelled.values
+                zz, rel = z, m / well[name].values - 1.0
             for k, (top, base) in enumerate(zip(edges[:-1], edges[1:])):
-                below = (z <= base) if k == edges.size - 2 else (z < base)
-                sel = (z >= top) & below & np.isfinite(rel)
+                below = (zz <= base) if k == edges.size - 2 else (zz < base)
+                sel = (zz >= top) & below & np.isfinite(rel)
                 n = int(sel.sum())
                 rows.append({"variable": name, "model": label, "top": top, "base": base,
                              "n": n,

@@ -282,3 +282,39 @@ def test_default_coarser_resolutions(given, want):
     keys = ("resolution", "resolution_check", "resolution_check2")
     out = resolve_checks(dict(zip(keys, given)))
     assert (out["resolution_check"], out["resolution_check2"]) == want
+
+
+def test_compare_takes_md_members_point_by_point(result):
+    """well_misfit on a scene with an MD member: the continuous model is compared at every log
+    sample, the MD member at its own depths against the log's mean within half a depth step
+    (a log that is 2.0 km/s there and 9.9 km/s elsewhere sees only the 2.0)."""
+    import xarray as xr
+
+    from rockcem.wells import well_misfit
+
+    ds, _ = result
+    z = np.arange(0.0, 4000.01, 0.5)
+    step = float(np.median(np.diff(ds.depth.values)))
+    md_depths = ds.depth.values[np.isfinite(ds.vp.sel(model="md").values)]
+    near = np.min(np.abs(z[:, None] - md_depths[None, :]), axis=1) <= step / 2
+    log = np.where(near, 2.0, 9.9)
+    well = xr.Dataset({"vp": ("depth", log)}, coords={"depth": z})
+    table = well_misfit(ds, well, variables=["vp"]).set_index("model")
+    want = ds.vp.sel(model="md", depth=md_depths).values / 2.0 - 1.0
+    row = table.loc["md"]
+    assert row.n == md_depths.size == 3
+    assert row.rms == pytest.approx(np.sqrt(np.mean(want ** 2)), rel=1e-12)
+    assert row.bias == pytest.approx(np.mean(want), rel=1e-12)
+    assert table.loc["hs_gassmann"].n > 1000                 # every log sample in range
+
+
+def test_fitting_the_md_member_is_refused(result):
+    import xarray as xr
+
+    from rockcem.wellfit import fit_scene
+
+    _, path = result
+    well = xr.Dataset({"vp": ("depth", np.full(5, 3.0))},
+                      coords={"depth": np.linspace(1000.0, 3000.0, 5)})
+    with pytest.raises(ValueError, match="MD backend"):
+        fit_scene(tiny(path), well, {"path.gradient": (30.0, 20.0, 40.0)}, model="md")
