@@ -186,8 +186,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
                size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
-               resolution_check2=0.0, interface="facet", measure="static", slab=1.0, strain_step=5e-4,
-               unload_step=1e-4, workdir, scheduler=None, jobs=1, progress=False):
+               resolution_check2=0.0, interface="facet", measure="static", slab=1.0,
+               strain_step=5e-4, unload_step=1e-4, workdir, scheduler=None, jobs=1, progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
     Parameters
@@ -251,8 +251,9 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         ``shear_modulus_check``), ``density`` (kg/m³, dry sample), their resolution errors
         ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``), the
         moduli at ``resolution_check2`` (``p_modulus_check2``, ``shear_modulus_check2``) and
-        whether the error is the asymptotic three-point one (``p_modulus_asymptotic``,
-        ``shear_modulus_asymptotic``: 1, else 0),
+        whether the error is the asymptotic or settled three-point one
+        (``p_modulus_asymptotic``, ``shear_modulus_asymptotic``: 1, else 0; NaN with fewer
+        than three resolutions),
         ``saturation`` (S_c = cement fraction / pack porosity, at most 1),
         ``cement_overflow`` (1 where the cement exceeds the pores of the core window),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
@@ -374,7 +375,9 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         else:
             err, asym = np.full(shape, np.nan), np.zeros(shape, bool)
         data[f"{k}_error"] = (dims, err)
-        data[f"{k}_asymptotic"] = (dims, asym.astype(np.int8))
+        # 1 or 0 from a three-resolution check; NaN without one (no check, not a failed one).
+        data[f"{k}_asymptotic"] = (dims, asym.astype(float) if len(omegas) == 3
+                                   else np.full(shape, np.nan))
     data["cement_overflow"] = (dims, overflow)
     data.update({k: (("point",), v) for k, v in per_depth.items()})
     return xr.Dataset(data, coords={"scheme": list(schemes)},

@@ -237,11 +237,15 @@ def static_moduli(system: AcousticSystem, waves=("p", "s"), *, rtol=1e-10, maxit
 
 
 def _lattice_degree(system) -> float:
-    """Mean number of lattice (cement–cement) bonds of a cement particle (0 without cement)."""
+    """Mean number of lattice (cement–cement) bonds of the cement particles that have any (0
+    without them; pruned and floating cement does not count)."""
+    bonds = np.count_nonzero(system.lattice_neighbors >= 0, axis=1)
+    bonded = np.zeros(system.n_particles, bool)     # cement particles with a lattice bond
+    bonded[system.n_grains:] = bonds > 0
     table = system.lattice_neighbors
-    if table.shape[0] == 0:
-        return 0.0
-    return 2.0 * np.count_nonzero(table >= 0) / table.shape[0]
+    bonded[table[table >= 0]] = True
+    count = np.count_nonzero(bonded[system.n_grains:])
+    return 2.0 * bonds.sum() / count if count else 0.0
 
 
 def _measure(system, u, wave, ax, flag, slab, n_slabs, connected, iterations):

@@ -201,7 +201,8 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             vp_res, vp_asym = resolution_error(omegas, np.stack([vp] + [c[0] for c in coarse]))
             vs_res, vs_asym = resolution_error(omegas, np.stack([vs] + [c[1] for c in coarse]))
             vp_res, vs_res = vp_res.mean(0), vs_res.mean(0)
-            asym = (vp_asym & vs_asym).all(0).astype(float)
+            asym = (vp_asym & vs_asym).all(0).astype(float) if len(omegas) == 3 \
+                else np.full(idx.size, np.nan)          # no three-point check made
         else:                                   # no coarser resolution: no error estimate
             vp_res = vs_res = asym = np.full(idx.size, np.nan)
         # Sample-size error: standard error of the mean over the independent packs.

@@ -377,10 +377,16 @@ def model_at_well(ds, well, name):
     return ds[name].interp(depth=well.depth.values, method="linear")
 
 
+def _is_md(label) -> bool:
+    """Whether a model label is an MD member (``md``, ``md_<scheme>``): valued at its own
+    depths only."""
+    return str(label) == "md" or str(label).startswith("md_")
+
+
 def _sparse_points(ds, values):
-    """Depths of a model valued at fewer than half the scene's depths (None if it is not)."""
+    """Depths where an MD member has a value (None where it has none or is not 1-d)."""
     finite = np.isfinite(values.values)
-    if values.ndim != 1 or not finite.any() or finite.sum() * 2 >= finite.size:
+    if values.ndim != 1 or not finite.any():
         return None
     return ds.depth.values[finite]
 
@@ -389,7 +395,7 @@ def _point_misfit(ds, values, log, points):
     """Relative misfit m/o - 1 at each of ``points``, o the mean of the log within half a
     scene depth step (NaN where the log has no finite sample there)."""
     z = log.depth.values
-    half = 0.5 * float(np.median(np.diff(ds.depth.values))) if ds.depth.size > 1 else 0.5
+    half = 0.5 * float(np.median(np.diff(ds.depth.values)))    # >= 2 depths: checked above
     out = np.full(points.size, np.nan)
     for k, p in enumerate(points):
         near = log.values[(z >= p - half) & (z <= p + half)]
@@ -407,8 +413,8 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
     samples ``n`` with a finite value inside the scene's depth range, the root-mean-square
     relative misfit :math:`\sqrt{\overline{(m/o - 1)^2}}` and the mean relative bias
     :math:`\overline{m/o - 1}` (:math:`m` the model at the log's depths, linear between scene
-    depths; :math:`o` the log). The last interval includes its base. A model computed at a few
-    depths only (the MD backend, NaN elsewhere) is compared point by point instead: at each of
+    depths; :math:`o` the log). The last interval includes its base. An MD member (``md``,
+    ``md_<scheme>``: valued at its own depths, NaN elsewhere) is compared point by point: at each of
     its depths :math:`o` is the mean of the log's samples within half a scene depth step of it
     (the depth a continuous model's sample stands for), and ``n`` counts those depths.
 
@@ -460,7 +466,7 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
         labels = modelled.model.values.tolist() if "model" in modelled.dims else ["-"]
         for label in labels:
             own = ds[name].sel(model=label) if label != "-" else ds[name]
-            points = _sparse_points(ds, own)
+            points = _sparse_points(ds, own) if _is_md(label) else None
             if points is not None:          # a model at a few depths (the MD backend)
                 zz, rel = points, _point_misfit(ds, own, well[name], points)
             else:

@@ -23,8 +23,7 @@ SCENES = sorted(name for name in shipped_scenes() if "md" not in read_scene_toml
 
 
 #: A burial scene with the MD engine as a model runs a small pack at two depths here.
-TINY_MD = {"count": 2, "size": [3.0, 3.0, 8.0], "resolution": 2.0, "resolution_check": 1.5,
-           "resolution_check2": 0.0}
+TINY_MD = {"count": 2, "size": [3.0, 3.0, 8.0], "resolution": 2.0, "resolution_check": 1.5}
 
 
 @pytest.fixture(scope="module", params=SCENES)

@@ -247,8 +247,9 @@ def test_three_resolutions_give_the_richardson_error_or_the_flagged_first_order(
     np.testing.assert_array_equal(m3.vp, m2.vp)
     asym = m3.md_resolution_asymptotic.values
     assert set(np.unique(asym)) <= {0.0, 1.0}
-    assert np.all(np.isnan(two.md_resolution_asymptotic.sel(model="md").values[ran]) |
-                  (two.md_resolution_asymptotic.sel(model="md").values[ran] == 0))
+    # Two resolutions: no three-point check was made (NaN, not a failed check; no warning).
+    assert np.all(np.isnan(two.md_resolution_asymptotic.sel(model="md").values))
+    assert "asymptotic range" not in two.attrs.get("validity_warnings", "")
     for k in np.flatnonzero(asym == 0):
         assert m3.vp_error_resolution.values[k] == pytest.approx(
             m2.vp_error_resolution.values[k], rel=1e-12)
@@ -306,6 +307,25 @@ def test_compare_takes_md_members_point_by_point(result):
     assert row.rms == pytest.approx(np.sqrt(np.mean(want ** 2)), rel=1e-12)
     assert row.bias == pytest.approx(np.mean(want), rel=1e-12)
     assert table.loc["hs_gassmann"].n > 1000                 # every log sample in range
+
+
+def test_compare_takes_an_md_member_at_most_depths_point_by_point():
+    """An MD member valued at half or more of the scene's depths (NaN between) is still
+    compared at its own depths, not interpolated into NaN."""
+    import xarray as xr
+
+    from rockcem.wells import well_misfit
+
+    depth = np.arange(0.0, 600.0, 100.0)
+    vp = np.array([[2.0, 2.1, 2.2, 2.3, 2.4, 2.5], [2.0, np.nan, 2.4, np.nan, 2.8, np.nan]])
+    ds = xr.Dataset({"vp": (("model", "depth"), vp)},
+                    coords={"model": ["hs_gassmann", "md"], "depth": depth})
+    z = np.arange(0.0, 500.01, 1.0)
+    well = xr.Dataset({"vp": ("depth", np.full(z.size, 2.0))}, coords={"depth": z})
+    row = well_misfit(ds, well, variables=["vp"]).set_index("model").loc["md"]
+    want = np.array([2.0, 2.4, 2.8]) / 2.0 - 1.0
+    assert row.n == 3
+    assert row.rms == pytest.approx(np.sqrt(np.mean(want ** 2)), rel=1e-12)
 
 
 def test_fitting_the_md_member_is_refused(result):

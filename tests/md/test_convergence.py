@@ -55,6 +55,17 @@ def test_settled_sequence_keeps_the_first_order_error():
     assert err[1] == pytest.approx(3.0 / 0.2)
 
 
+def test_richardson_wins_over_the_settled_rule():
+    """A power law whose changes are below 1 % still gets its Richardson error (the
+    first-order one would be too small for an order below 1)."""
+    om = [6.0, 5.0, 4.0]
+    x = np.array([[3.0 - 0.2 * o ** -0.6] for o in om])
+    assert np.all(np.abs(np.diff(x[:, 0])) < 0.01 * x[0, 0])
+    err, asym = resolution_error(om, x)
+    assert asym[0]
+    assert err[0] == pytest.approx(0.2 * 6.0 ** -0.6, rel=1e-8)
+
+
 def test_resolution_independent_values_have_no_error():
     """One value at every resolution (an uncemented sample): error zero, not flagged."""
     err, asym = resolution_error([6.0, 5.0, 4.0], np.full((3, 2), 4.2))
