@@ -203,6 +203,18 @@ def calibrate(data, model="contact_cement", *, free=("coordination_number",), fi
                 table[k][1]
             x0, lo, hi = inp["free"][k] or (min(max(start, lo), hi), lo, hi)
             hi_given = hi
+            if k == "coordination_number":
+                # The models accept n up to rockcem.granular.MAX_COORDINATION_NUMBER: a wider
+                # bound would let the fit step where they refuse.
+                from rockcem.granular import MAX_COORDINATION_NUMBER
+
+                hi = min(hi, MAX_COORDINATION_NUMBER)
+                if not hi > lo:
+                    raise ValueError(f"coordination_number: the lower bound {lo:g} leaves no "
+                                     f"room below the models' largest n, "
+                                     f"{MAX_COORDINATION_NUMBER:g}")
+                if hi < hi_given and hi < x0 <= hi_given:
+                    x0 = hi
             if k == "coordination_number" and inp["radius"] and model == "contact_cement" \
                     and scheme == 1 and "thickness" not in free_names:
                 # Bonded data give the cement radius: above this n the cement would not fit

@@ -334,9 +334,10 @@ def test_bonded_fit_keeps_n_where_the_cement_fits():
 
     import md
 
-    alpha = np.array([0.5, 0.55, 0.6])
+    alpha = np.array([0.6, 0.65, 0.7])
     phic = 0.40
     n_max = np.min(phic / ((1 - phic) * 0.75 * alpha**2 * (0.25 * alpha**2)))
+    assert n_max < 20.0                           # below the models' own largest n
     K = np.array([40.0, 45.0, 50.0])             # stiff: the best n lies beyond n_max
     ds = xr.Dataset({"K": ("radius_ratio", K), "G": ("radius_ratio", K * 1.1),
                      "porosity": ("radius_ratio", np.full(3, 0.35)),
@@ -349,6 +350,30 @@ def test_bonded_fit_keeps_n_where_the_cement_fits():
                                  observed=["K", "G"])
     n = float(fit.value.sel(parameter="coordination_number"))
     assert 0.9 * n_max < n <= n_max
+
+
+def test_free_coordination_number_stays_within_the_models_range():
+    """A generous bound (2, 60) on n is cut at the models' largest coordination number
+    (rockcem.granular.MAX_COORDINATION_NUMBER), so a fit that wants more stops there instead
+    of failing inside the model."""
+    import xarray as xr
+
+    import md
+    from rockcem.granular import MAX_COORDINATION_NUMBER
+
+    alpha = np.array([0.5, 0.55, 0.6])          # cement room up to n = 27 (eq. 7)
+    K = np.array([40.0, 45.0, 50.0])
+    ds = xr.Dataset({"K": ("radius_ratio", K), "G": ("radius_ratio", K * 1.1),
+                     "porosity": ("radius_ratio", np.full(3, 0.35)),
+                     "porosity_uncemented": ((), 0.40)},
+                    coords={"radius_ratio": alpha},
+                    attrs={"grain_K": 37.7, "grain_G": 44.0, "cement_K": 15.0,
+                           "cement_G": 8.0})
+    fit = md.calibrate.calibrate(ds, "contact_cement",
+                                 free={"coordination_number": (9.0, 2.0, 60.0)},
+                                 observed=["K", "G"])
+    n = float(fit.value.sel(parameter="coordination_number"))
+    assert 0.9 * MAX_COORDINATION_NUMBER < n <= MAX_COORDINATION_NUMBER
 
 
 # --- identifiability and the full-size study ----------------------------------------------------
