@@ -326,19 +326,14 @@ def test_models_table_is_consistent():
             assert lo <= default <= hi and lo <= start <= hi, (model, name)
 
 
-def test_bonded_fit_keeps_n_where_the_cement_fits():
-    """Bonded data (cement radius given): the upper bound of a free coordination number is cut
-    where eq. 7 of Han & Guo would need more cement than the pore space holds, so a fit with
-    a generous bound ends inside the admissible range instead of failing on phi < 0."""
+def _stiff_bonded_fit(alpha, phic):
+    """The coordination number a contact-cement fit with a generous bound (2, 60) gives to
+    stiff bonded data (cement radius ratios ``alpha``): the best n lies beyond every cap."""
     import xarray as xr
 
     import md
 
-    alpha = np.array([0.6, 0.65, 0.7])
-    phic = 0.40
-    n_max = np.min(phic / ((1 - phic) * 0.75 * alpha**2 * (0.25 * alpha**2)))
-    assert n_max < 20.0                           # below the models' own largest n
-    K = np.array([40.0, 45.0, 50.0])             # stiff: the best n lies beyond n_max
+    K = np.array([40.0, 45.0, 50.0])
     ds = xr.Dataset({"K": ("radius_ratio", K), "G": ("radius_ratio", K * 1.1),
                      "porosity": ("radius_ratio", np.full(3, 0.35)),
                      "porosity_uncemented": ((), phic)},
@@ -348,7 +343,18 @@ def test_bonded_fit_keeps_n_where_the_cement_fits():
     fit = md.calibrate.calibrate(ds, "contact_cement",
                                  free={"coordination_number": (9.0, 2.0, 60.0)},
                                  observed=["K", "G"])
-    n = float(fit.value.sel(parameter="coordination_number"))
+    return float(fit.value.sel(parameter="coordination_number"))
+
+
+def test_bonded_fit_keeps_n_where_the_cement_fits():
+    """Bonded data (cement radius given): the upper bound of a free coordination number is cut
+    where eq. 7 of Han & Guo would need more cement than the pore space holds, so a fit with
+    a generous bound ends inside the admissible range instead of failing on phi < 0."""
+    alpha = np.array([0.6, 0.65, 0.7])
+    phic = 0.40
+    n_max = np.min(phic / ((1 - phic) * 0.75 * alpha**2 * (0.25 * alpha**2)))
+    assert n_max < 20.0                           # below the models' own largest n
+    n = _stiff_bonded_fit(alpha, phic)
     assert 0.9 * n_max < n <= n_max
 
 
@@ -356,23 +362,9 @@ def test_free_coordination_number_stays_within_the_models_range():
     """A generous bound (2, 60) on n is cut at the models' largest coordination number
     (rockcem.granular.MAX_COORDINATION_NUMBER), so a fit that wants more stops there instead
     of failing inside the model."""
-    import xarray as xr
-
-    import md
     from rockcem.granular import MAX_COORDINATION_NUMBER
 
-    alpha = np.array([0.5, 0.55, 0.6])          # cement room up to n = 27 (eq. 7)
-    K = np.array([40.0, 45.0, 50.0])
-    ds = xr.Dataset({"K": ("radius_ratio", K), "G": ("radius_ratio", K * 1.1),
-                     "porosity": ("radius_ratio", np.full(3, 0.35)),
-                     "porosity_uncemented": ((), 0.40)},
-                    coords={"radius_ratio": alpha},
-                    attrs={"grain_K": 37.7, "grain_G": 44.0, "cement_K": 15.0,
-                           "cement_G": 8.0})
-    fit = md.calibrate.calibrate(ds, "contact_cement",
-                                 free={"coordination_number": (9.0, 2.0, 60.0)},
-                                 observed=["K", "G"])
-    n = float(fit.value.sel(parameter="coordination_number"))
+    n = _stiff_bonded_fit(np.array([0.5, 0.55, 0.6]), 0.40)    # cement room up to n = 27
     assert 0.9 * MAX_COORDINATION_NUMBER < n <= MAX_COORDINATION_NUMBER
 
 
