@@ -242,8 +242,7 @@ def _plot(args) -> int:
     args.kind = _plot_kind(ds, args, path)
     if args.kind == "md-study":
         ds = _select(ds, args.select or [])
-        out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}.png"),
-                          figure=True)
+        out = output_file(args.output, _default_figure(path, args), figure=True)
         print(f"wrote {plots.save_figure(plots.md_study_velocity(ds), out)}")
         return 0
     if args.kind in ("vp-porosity", "template") and ds.attrs.get("lithology") != "sandstone":
@@ -257,11 +256,21 @@ def _plot(args) -> int:
         return plot_with_well(ds, args, path)
     draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
             "template": plots.rock_physics_template}[args.kind]
-    out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}.png"),
-                      figure=True)
+    out = output_file(args.output, _default_figure(path, args), figure=True)
     saved = plots.save_figure(draw(ds), out)
     print(f"wrote {saved}")
     return 0
+
+
+def _default_figure(path, args):
+    """``<stem>[_<selection>]_<kind>.png`` beside the file: each ``--select KEY=VALUE`` adds
+    ``KEY-VALUE`` (characters other than letters, digits, ``.`` and ``-`` become ``_``), so
+    figures of different members do not replace each other."""
+    import re
+
+    tags = [re.sub(r"[^A-Za-z0-9.-]+", "_", item.replace("=", "-"))
+            for item in (args.select or [])]
+    return path.with_name("_".join([path.stem, *tags, args.kind]) + ".png")
 
 
 def _plot_kind(ds, args, path) -> str:

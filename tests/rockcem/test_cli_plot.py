@@ -98,3 +98,20 @@ def test_plot_template_of_a_shale_file_refused_in_one_line(tmp_path, drawn, caps
     ds = run_scene(scene_from_dict(shale))
     with pytest.raises(ValueError, match="shale scene: pass grain= and cement="):
         plots.rock_physics_template(ds)
+
+
+def test_figures_of_different_selections_get_their_own_default_names(swept_file, monkeypatch,
+                                                                      capsys):
+    """Two --select plots of one file write two files (the second no longer replaces the
+    first); the name carries the selection."""
+    from rockcem import plots
+
+    saved = []
+    monkeypatch.setattr(plots, "save_figure", lambda fig, path, **_: saved.append(path) or path)
+    for g in ("20", "40"):
+        assert cli.main(["plot", str(swept_file), "--select", f"gradient={g}", "--select",
+                         "sandstone.grain_size=0.4"]) == 0
+    names = [p.name for p in saved]
+    assert names == ["s_gradient-20_sandstone.grain_size-0.4_depth.png",
+                     "s_gradient-40_sandstone.grain_size-0.4_depth.png"]
+    assert all(p.parent == swept_file.parent for p in saved)
