@@ -232,7 +232,9 @@ def _plot(args) -> int:
 
     path = Path(args.file)
     if not path.is_file():
-        raise ValueError(f"no such file: {args.file}")
+        from .cli_wells import no_such_file
+
+        raise ValueError(no_such_file(args.file))
     if args.output is not None:
         output_file(args.output, None, figure=True)
     try:

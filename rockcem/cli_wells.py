@@ -12,6 +12,23 @@ from pathlib import Path
 __all__ = ["add_commands", "add_well_options", "output_file", "plot_with_well"]
 
 
+def no_such_file(source) -> str:
+    """``no such file: SOURCE``, with the closest name in its folder when one is close
+    ("did you mean ...?"), as scene names and keys get."""
+    import difflib
+
+    path = Path(source)
+    folder = path.parent if str(path.parent) else Path(".")
+    try:
+        names = [p.name for p in folder.iterdir() if p.is_file()]
+    except OSError:
+        names = []
+    close = difflib.get_close_matches(path.name, names, n=1, cutoff=0.7)
+    hint = f"; did you mean {str(folder / close[0]) if str(path.parent) != '.' else close[0]}?" \
+        if close else ""
+    return f"no such file: {source}{hint}"
+
+
 def output_file(given, default, *, what="-o", figure=False):
     """The file a command will write, checked before any work.
 
@@ -63,7 +80,7 @@ def _scene_dataset(source):
     path = Path(source)
     if path.suffix == ".nc":
         if not path.is_file():
-            raise ValueError(f"no such file: {source}")
+            raise ValueError(no_such_file(source))
         try:
             return xr.load_dataset(path, engine="netcdf4")
         except (OSError, ValueError) as exc:

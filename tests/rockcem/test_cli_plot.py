@@ -115,3 +115,18 @@ def test_figures_of_different_selections_get_their_own_default_names(swept_file,
     assert names == ["s_gradient-20_sandstone.grain_size-0.4_depth.png",
                      "s_gradient-40_sandstone.grain_size-0.4_depth.png"]
     assert all(p.parent == swept_file.parent for p in saved)
+
+
+def test_mistyped_file_name_gets_a_did_you_mean(swept_file, capsys, monkeypatch):
+    """A file name one letter off an existing one: one line naming the close name; a name
+    close to nothing: the plain message."""
+    monkeypatch.chdir(swept_file.parent)
+    assert cli.main(["plot", "ss.nc"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no such file: ss.nc; did you mean s.nc?" in err
+    wrong = str(swept_file.parent / "t.nc")
+    assert cli.main(["plot", wrong]) == 2
+    assert f"did you mean {swept_file}?" in capsys.readouterr().err
+    assert cli.main(["plot", "completely_different_name.nc"]) == 2
+    err = capsys.readouterr().err
+    assert "no such file: completely_different_name.nc" in err and "did you mean" not in err
