@@ -345,11 +345,20 @@ def _scenes(args) -> int:
 def _schema(args) -> int:
     from .scene import _REQUIRED, SCHEMA
 
+    def shown(default):
+        return "required" if default is _REQUIRED else "-" if default is None else repr(default)
+
+    # Columns as wide as their widest entry (a long unit or default never runs into the next).
+    rows = [row for keys in SCHEMA.values() for row in keys.items()]
+    w_key = max(len(k) for k, _ in rows)
+    w_kind = max(len(v[1]) for _, v in rows)
+    w_unit = max(len(v[2]) for _, v in rows)
+    w_default = max(len(shown(v[0])) for _, v in rows)
     for section, keys in SCHEMA.items():
         print(f"[{section}]" if section != "scene" else "(top level)")
         for key, (default, kind, unit, doc) in keys.items():
-            shown = "required" if default is _REQUIRED else repr(default)
-            print(f"  {key:<22} {kind:<8} {unit:<10} default {shown:<14} {doc}")
+            print(f"  {key:<{w_key}}  {kind:<{w_kind}}  {unit:<{w_unit}}  "
+                  f"default {shown(default):<{w_default}}  {doc}")
     print("[sweep]\n  \"section.key\" = [values, ...]  one dimension per swept parameter")
     print("\nMD scenes (a table [md] instead of the sections above; run by the md engine):")
     from md.experiment import schema_lines
