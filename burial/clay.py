@@ -65,11 +65,11 @@ def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
     if not isinstance(path, BurialPath):
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
     r0 = check_range("r0", as_array("r0", r0), 0.0, 1.0)
-    broadcast(r0=r0, **{"path (leading axes)": path.temperature[..., 0]})
     n = check_range("order", as_scalar("order", order), 1.0, MAX_ORDER)
     E = check_range("activation_energy", as_scalar("activation_energy", activation_energy), 0.0,
                     MAX_ACTIVATION_ENERGY, low_open=True)
     c = check_positive("frequency_factor", as_scalar("frequency_factor", frequency_factor))
+    broadcast(r0=r0, **{"path (leading axes)": path.temperature[..., 0]})
     r0 = np.asarray(r0)[..., None]
     # J or c J may overflow to inf for a huge frequency factor or a path of 10^300 Myr: the
     # limit of a reaction run to completion (r = 0), which the forms below reach; where J = 0

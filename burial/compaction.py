@@ -40,7 +40,8 @@ def athy_porosity(porosity0, effective_pressure, beta=0.01):
                         allow_zero=True)
     beta = check_positive("beta", as_array("beta", beta), allow_zero=True)
     phi0, pe, beta = broadcast(porosity0=phi0, effective_pressure=pe, beta=beta)
-    return phi0 * np.exp(-beta * pe)
+    with np.errstate(over="ignore"):        # beta p_e beyond 1e308: exp(-inf) = 0, the limit
+        return phi0 * np.exp(-beta * pe)
 
 
 def intergranular_volume(porosity0, effective_pressure, igv_final=0.2, beta=0.01,
@@ -90,7 +91,8 @@ def intergranular_volume(porosity0, effective_pressure, igv_final=0.2, beta=0.01
     if np.any(igv_i > phi0 + m0):
         raise ValueError("igv_final must not exceed porosity0 + matrix0 (the IGV only falls "
                          "from its initial value)")
-    return igv_i + (phi0 + m0 - igv_i) * np.exp(-beta * pe)
+    with np.errstate(over="ignore"):        # beta p_e beyond 1e308: exp(-inf) = 0, the limit
+        return igv_i + (phi0 + m0 - igv_i) * np.exp(-beta * pe)
 
 
 class SandstonePorosity(NamedTuple):

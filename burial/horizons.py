@@ -44,7 +44,7 @@ class HorizonPaths(NamedTuple):
     age: np.ndarray         #: deposition time, Myr before present, shape (horizons,)
 
 
-def _column(name, values, n=None):
+def _column(name, values, n=None, of="horizon"):
     try:
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -52,7 +52,7 @@ def _column(name, values, n=None):
     if arr.ndim != 1:
         raise ValueError(f"column {name}: must be a flat list of values")
     if n is not None and arr.size != n:
-        raise ValueError(f"column {name}: {arr.size} values, but column horizon has {n} rows")
+        raise ValueError(f"column {name}: {arr.size} values, but column {of} has {n} rows")
     bad = np.flatnonzero(~np.isfinite(arr))
     if bad.size:
         raise ValueError(f"row {bad[0] + 1}, column {name}: {values[bad[0]]!r} is not a finite "
@@ -233,8 +233,8 @@ def shifted_path(time, depth, temperature, *, depth_step=None) -> BurialPath:
     ([0.0, 250.0, 500.0, 750.0, 1000.0], [0.0, 5.0, 10.0, 20.0, 30.0])
     """
     t = _column("time", time)
-    z = _column("depth", depth, t.size)
-    T = _column("temperature", temperature, t.size)
+    z = _column("depth", depth, t.size, of="time")
+    T = _column("temperature", temperature, t.size, of="time")
     rows = np.arange(t.size)
     if t.size < 2:
         raise ValueError("column time: a history needs at least two rows")

@@ -223,7 +223,12 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
                          f"{zmax / (MAX_PROFILE_NODES - 1):.3g} m)")
     depth = np.arange(0.0, zmax, dz)
     depth = np.append(depth[zmax - depth > 1e-9 * min(dz, zmax)], zmax)
-    return _validated(depth / S, depth, T0 + G * depth / 1000.0)
+    time = depth / S
+    if np.any(np.diff(time) <= 0.0):
+        raise ValueError(f"sedimentation_rate {S:g} m/Myr buries the {depth[1]:g} m between the "
+                         "first nodes in no time that a float can hold; lower it or raise "
+                         "depth_step")
+    return _validated(time, depth, T0 + G * depth / 1000.0)
 
 
 class Pressures(NamedTuple):

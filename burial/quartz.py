@@ -10,12 +10,15 @@ from rockcem.validation import as_array, as_scalar, broadcast, check_positive, c
 from ._integrals import cumulative_power10
 from .path import MAX_TEMPERATURE_C, MIN_TEMPERATURE_C, BurialPath
 
-__all__ = ["quartz_cement", "QUARTZ_MOLAR_MASS", "QUARTZ_DENSITY", "MAX_RATE_EXPONENT"]
+__all__ = ["quartz_cement", "QUARTZ_MOLAR_MASS", "QUARTZ_DENSITY", "MAX_RATE_EXPONENT",
+           "MIN_GRAIN_SIZE_MM"]
 
 #: Molar mass of quartz, g/mol (Carcione et al. 2022, Sect. 6.2).
 QUARTZ_MOLAR_MASS = 60.09
 #: Density of quartz, g/cm³ (Carcione et al. 2022, Sect. 6.2).
 QUARTZ_DENSITY = 2.65
+#: Smallest grain size accepted, mm: a nanometre, below any clay platelet.
+MIN_GRAIN_SIZE_MM = 1e-6
 #: Largest Walderhaug exponent b accepted, 1/°C: five times Walderhaug's 0.022, and small enough
 #: that 10^(bT) stays finite over the whole temperature range of a path.
 MAX_RATE_EXPONENT = 0.1
@@ -48,7 +51,8 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
     porosity0 : float or array_like
         Initial porosity :math:`\phi_0`, in (0, 1).
     grain_size : float or array_like
-        Grain diameter :math:`D`, mm, ``> 0`` (0.3 in the worked example).
+        Grain diameter :math:`D`, mm, ``>=`` :data:`MIN_GRAIN_SIZE_MM` (0.3 in the worked
+        example).
     quartz_fraction : float or array_like
         Fraction :math:`f` of detrital quartz, in [0, 1].
     clay_coating : float or array_like
@@ -87,11 +91,10 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
     phi0 = check_range("porosity0", as_array("porosity0", porosity0), 0.0, 1.0, low_open=True,
                        high_open=True)
-    D_cm = check_positive("grain_size", as_array("grain_size", grain_size)) / 10.0
+    D_cm = check_range("grain_size", as_array("grain_size", grain_size), MIN_GRAIN_SIZE_MM,
+                       np.inf, high_open=True) / 10.0
     f = check_range("quartz_fraction", as_array("quartz_fraction", quartz_fraction), 0.0, 1.0)
     C = check_range("clay_coating", as_array("clay_coating", clay_coating), 0.0, 1.0)
-    broadcast(porosity0=phi0, grain_size=D_cm, quartz_fraction=f, clay_coating=C,
-              **{"path (leading axes)": path.temperature[..., 0]})
     a = check_positive("rate_constant", as_scalar("rate_constant", rate_constant))
     b = check_range("rate_exponent", as_scalar("rate_exponent", rate_exponent), 0.0,
                     MAX_RATE_EXPONENT, low_open=True)
@@ -99,6 +102,8 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
         start_temperature = check_range(
             "start_temperature", as_scalar("start_temperature", start_temperature),
             MIN_TEMPERATURE_C, MAX_TEMPERATURE_C)
+    broadcast(porosity0=phi0, grain_size=D_cm, quartz_fraction=f, clay_coating=C,
+              **{"path (leading axes)": path.temperature[..., 0]})
     A0 = (1.0 - C) * 6.0 * f / D_cm                                   # cm², V = 1 cm³
     # Extreme but valid inputs (a tiny grain size or porosity0, a huge rate constant, a path of
     # 10^300 Myr) may overflow k or the integral to inf: that is the limit of a pore space filled

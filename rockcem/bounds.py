@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast_phases, check_fractions, check_positive,
+from .validation import (as_array, broadcast_phases, check_fractions, check_modulus,
                           max_phases, min_phases, sum_phases)
 from .elastic import Moduli
 
@@ -44,8 +44,8 @@ class Bounds(NamedTuple):
 
 
 def _phases(K, G, fractions):
-    K = check_positive("K", as_array("K", K), allow_zero=True)
-    G = check_positive("G", as_array("G", G), allow_zero=True)
+    K = check_modulus("K", as_array("K", K), allow_zero=True)
+    G = check_modulus("G", as_array("G", G), allow_zero=True)
     f = check_fractions("fractions", as_array("fractions", fractions))
     f, K, G = broadcast_phases(("fractions", f), K=K, G=G)
     return K, G, f

@@ -40,7 +40,7 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.special import ellipkm1
 
-from .validation import as_array, broadcast, check_positive
+from .validation import as_array, broadcast, check_positive, check_range
 
 __all__ = ["cemented_contact_stiffness"]
 
@@ -133,7 +133,7 @@ def cemented_contact_stiffness(alpha, Lambda, thickness=0.0, *, panels=64, chunk
     >>> round(float(S / (2 * 0.3 / (np.pi**2 * 1e3))), 2)
     1.0
     """
-    alpha = check_positive("alpha", as_array("alpha", alpha))
+    alpha = check_range("alpha", as_array("alpha", alpha), 0.0, 1.0, low_open=True)
     Lambda = check_positive("Lambda", as_array("Lambda", Lambda))
     eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
     if int(panels) < 4:
@@ -145,8 +145,14 @@ def cemented_contact_stiffness(alpha, Lambda, thickness=0.0, *, panels=64, chunk
     for start in range(0, a.size, int(chunk)):
         sl = slice(start, start + int(chunk))
         ak, lk_, ek = a[sl, None], lam[sl, None], e[sl, None]
-        diag = ek + 0.5 * (ak * mid) ** 2
-        A = (0.5 * lk_ * ak)[..., None] * W + diag[..., None] * np.eye(mid.size)
-        sigma = np.linalg.solve(A, np.ones((A.shape[0], mid.size, 1)))[..., 0]
-        out[sl] = (ak[:, 0] ** 2) * (sigma @ moment)
+        # The system divided by alpha, so that a tiny cement radius does not underflow it to
+        # a singular matrix: A / alpha = Lambda W / 2 + (eps / alpha + alpha t^2 / 2) I, and
+        # S = alpha^2 (A^-1 1) . moment = alpha ((A / alpha)^-1 1) . moment.
+        with np.errstate(over="ignore"):
+            diag = ek / ak + 0.5 * ak * mid ** 2
+        thick = ~np.isfinite(diag[:, 0])        # eps / alpha beyond 1e308: no stiffness left
+        diag[thick] = 1.0
+        B = (0.5 * lk_)[..., None] * W + diag[..., None] * np.eye(mid.size)
+        sigma = np.linalg.solve(B, np.ones((B.shape[0], mid.size, 1)))[..., 0]
+        out[sl] = np.where(thick, 0.0, ak[:, 0] * (sigma @ moment))
     return out.reshape(alpha.shape)

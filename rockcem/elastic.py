@@ -9,7 +9,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import as_array, broadcast, check_positive
+from .validation import (MAX_DENSITY, MIN_DENSITY, as_array, broadcast, check_modulus,
+                         check_positive, check_range)
 
 __all__ = ["Moduli", "Velocities", "poisson_ratio", "velocities", "p_wave_modulus"]
 
@@ -48,8 +49,8 @@ def poisson_ratio(K, G):
     >>> float(poisson_ratio(36.0, 45.0))  # doctest: +ELLIPSIS
     0.0588...
     """
-    K = check_positive("K", as_array("K", K))
-    G = check_positive("G", as_array("G", G), allow_zero=True)
+    K = check_positive("K", check_modulus("K", as_array("K", K), allow_zero=True))
+    G = check_modulus("G", as_array("G", G), allow_zero=True)
     K, G = broadcast(K=K, G=G)
     return (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
 
@@ -67,8 +68,8 @@ def p_wave_modulus(K, G):
     ndarray
         P-wave modulus, GPa, broadcast over the inputs.
     """
-    K = check_positive("K", as_array("K", K), allow_zero=True)
-    G = check_positive("G", as_array("G", G), allow_zero=True)
+    K = check_modulus("K", as_array("K", K), allow_zero=True)
+    G = check_modulus("G", as_array("G", G), allow_zero=True)
     K, G = broadcast(K=K, G=G)
     return K + 4.0 / 3.0 * G
 
@@ -83,7 +84,8 @@ def velocities(K, G, density) -> Velocities:
     K, G : float or array_like
         Bulk and shear moduli, GPa (``K >= 0``, ``G >= 0``).
     density : float or array_like
-        Bulk density, g/cm³ (``> 0``).
+        Bulk density, g/cm³, in [:data:`rockcem.validation.MIN_DENSITY`,
+        :data:`rockcem.validation.MAX_DENSITY`] (a density in kg/m³ is refused).
 
     Returns
     -------
@@ -96,8 +98,8 @@ def velocities(K, G, density) -> Velocities:
     >>> round(float(v.vp), 3), round(float(v.vs), 3)
     (5.892, 3.836)
     """
-    K = check_positive("K", as_array("K", K), allow_zero=True)
-    G = check_positive("G", as_array("G", G), allow_zero=True)
-    rho = check_positive("density", as_array("density", density))
+    K = check_modulus("K", as_array("K", K), allow_zero=True)
+    G = check_modulus("G", as_array("G", G), allow_zero=True)
+    rho = check_range("density", as_array("density", density), MIN_DENSITY, MAX_DENSITY)
     K, G, rho = broadcast(K=K, G=G, density=rho)
     return Velocities(np.sqrt((K + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))

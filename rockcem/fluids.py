@@ -10,14 +10,14 @@ from __future__ import annotations
 import numpy as np
 
 from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
-                          check_positive, check_range, sum_phases)
+                          check_modulus, check_positive, check_range, sum_phases)
 
 __all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]
 
 
 def _check_common(K_min, K_fluid, phi, *, phi_open_low=False):
-    K_min = check_positive("K_min", as_array("K_min", K_min))
-    K_fluid = check_positive("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
+    K_min = check_modulus("K_min", as_array("K_min", K_min))
+    K_fluid = check_modulus("K_fluid", as_array("K_fluid", K_fluid), allow_zero=True)
     phi = check_range("phi", as_array("phi", phi), 0.0, 1.0, low_open=phi_open_low)
     return K_min, K_fluid, phi
 
@@ -56,7 +56,7 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     15.3746
     """
     K_min, K_fluid, phi = _check_common(K_min, K_fluid, phi)
-    K_dry = check_positive("K_dry", as_array("K_dry", K_dry), allow_zero=True)
+    K_dry = check_modulus("K_dry", as_array("K_dry", K_dry), allow_zero=True)
     K_dry, K_min, K_fluid, phi = broadcast(K_dry=K_dry, K_min=K_min, K_fluid=K_fluid, phi=phi)
     if np.any(K_dry > K_min * (1.0 + 1e-12)):
         raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its "
@@ -64,9 +64,11 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     alpha = 1.0 - K_dry / K_min
     denom = (alpha - phi) * K_fluid + phi * K_min
     ok = denom > 0.0
-    M = np.where(ok, K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
+    # alpha^2 M as alpha (alpha M): where alpha and phi are both tiny, M alone overflows while
+    # alpha M stays below K_min K_fluid / ((alpha - phi) K_fluid + phi K_min) * alpha, finite.
+    alpha_M = np.where(ok, alpha * K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
     # Where denom = 0 (K_f = 0 and phi = 0, or phi = 0 and K_dry = K_min) there is nothing to add.
-    return K_dry + alpha * alpha * M
+    return K_dry + alpha * alpha_M
 
 
 def gassmann_dry(K_sat, K_min, K_fluid, phi):
@@ -105,7 +107,8 @@ def gassmann_dry(K_sat, K_min, K_fluid, phi):
     10.0
     """
     K_min, K_fluid, phi = _check_common(K_min, K_fluid, phi, phi_open_low=True)
-    K_sat = check_positive("K_sat", as_array("K_sat", K_sat))
+    K_sat = check_positive("K_sat", check_modulus("K_sat", as_array("K_sat", K_sat),
+                                                  allow_zero=True))
     K_sat, K_min, K_fluid, phi = broadcast(K_sat=K_sat, K_min=K_min, K_fluid=K_fluid, phi=phi)
     if np.any(K_sat > K_min * (1.0 + 1e-12)):
         raise ValueError("K_sat must not exceed K_min")
@@ -118,31 +121,40 @@ def gassmann_dry(K_sat, K_min, K_fluid, phi):
     return np.maximum(num / den, 0.0)
 
 
-def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi, *, K_frame=None, K_sat=None):
+_ABSENT = object()
+
+
+def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi, *, K_frame=_ABSENT,
+                        K_sat=_ABSENT):
     """Checked inputs of the generalized Gassmann pair, broadcast by name: the phase arrays
     (fractions, ``K_solid``, ``K_frame``) to ``(..., n)``, the others (``K_fluid``, ``phi``,
     ``K_sat``) to ``(...)``. The fractions and the frame moduli keep their own number of phases
     ``n``: ``[1.0]`` is not stretched over two solids, nor one frame modulus counted once per
     solid. Returns ``beta, K_i[, K_mi], K_fluid, phi[, K_sat]``."""
-    K_i = check_positive("K_solid", as_array("K_solid", K_solid))
+    K_i = check_modulus("K_solid", as_array("K_solid", K_solid))
     beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
-    per_depth = {"K_fluid": check_positive("K_fluid", as_array("K_fluid", K_fluid),
+    per_depth = {"K_fluid": check_modulus("K_fluid", as_array("K_fluid", K_fluid),
                                            allow_zero=True),
                  "phi": check_range("phi", as_array("phi", phi), 0.0, 1.0, high_open=True)}
     phases = {"K_solid": K_i}
-    if K_frame is not None:
-        phases["K_frame"] = check_positive("K_frame", as_array("K_frame", K_frame),
+    if K_frame is not _ABSENT:
+        phases["K_frame"] = check_modulus("K_frame", as_array("K_frame", K_frame),
                                            allow_zero=True)
-    if K_sat is not None:
-        per_depth["K_sat"] = check_positive("K_sat", as_array("K_sat", K_sat))
+    if K_sat is not _ABSENT:
+        per_depth["K_sat"] = check_positive(
+            "K_sat", check_modulus("K_sat", as_array("K_sat", K_sat), allow_zero=True))
     broadcast(**per_depth)            # a mismatch among these is named with their own shapes
     out = broadcast_phases(("solid_fractions", beta), **phases,
                            **{k: v[..., None] for k, v in per_depth.items()})
-    if K_frame is not None and (phases["K_frame"].ndim == 0
+    if K_frame is not _ABSENT and (phases["K_frame"].ndim == 0
                                 or phases["K_frame"].shape[-1] != beta.shape[-1]):
         raise ValueError(f"K_frame must hold one frame modulus per solid on its last axis "
                          f"({beta.shape[-1]}, as solid_fractions); got shape "
                          f"{phases['K_frame'].shape}")
+    if K_frame is not _ABSENT and np.any(out[2] > out[0] * out[1] * (1.0 + 1e-12)):
+        raise ValueError("K_frame must not exceed solid_fractions * K_solid, solid by solid "
+                         "(each Biot coefficient alpha_i = beta_i - K_frame_i / K_solid_i is "
+                         ">= 0; eq. 13 of Carcione et al. 2022 gives K_frame_i <= beta_i K_i)")
     n = 1 + len(phases)
     return (*out[:n], *(a[..., 0] for a in out[n:]))
 
@@ -166,7 +178,8 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     ----------
     K_frame : array_like, shape (..., n)
         Frame moduli :math:`K_{mi}` of the solids (e.g. from
-        :func:`rockcem.frames.krief_multimineral`), GPa, ``>= 0``.
+        :func:`rockcem.frames.krief_multimineral`), GPa, in [0, :math:`\beta_i K_i`] (each
+        solid's Biot coefficient :math:`\alpha_i` non-negative).
     K_solid : array_like, shape (..., n)
         Bulk moduli :math:`K_i` of the solids, GPa, ``> 0``.
     solid_fractions : array_like, shape (..., n)
@@ -189,10 +202,10 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     # M = 1/(compliance + phi/K_f) = K_f / (K_f compliance + phi), finite for K_f = 0.
     denom = K_fluid * compliance + phi
     ok = denom > 0.0
-    M = np.where(ok, K_fluid / np.where(ok, denom, 1.0), 0.0)
+    alpha_M = np.where(ok, alpha * K_fluid / np.where(ok, denom, 1.0), 0.0)   # as in gassmann
     K_m = sum_phases(K_mi)
     # denom = 0 only when phi = 0 and sum(alpha_i/K_i) = 0, i.e. the frame is the mineral.
-    return K_m + alpha * alpha * M
+    return K_m + alpha * alpha_M
 
 
 def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
@@ -212,7 +225,8 @@ def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     K_solid, solid_fractions : array_like, shape (..., n)
         As in :func:`generalized_gassmann`.
     K_fluid : float or array_like, shape (...)
-        Fluid bulk modulus, GPa, ``> 0``.
+        Fluid bulk modulus, GPa, in [:data:`rockcem.validation.MIN_MODULUS`,
+        :data:`rockcem.validation.MAX_MODULUS`] (an empty pore hides the frame).
     phi : float or array_like, shape (...)
         Porosity, in (0, 1).
 
@@ -223,8 +237,11 @@ def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     """
     beta, K_i, K_fluid, phi, K_sat = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi,
                                                          K_sat=K_sat)
-    check_positive("K_fluid", K_fluid)
+    check_modulus("K_fluid", K_fluid)           # > 0: an empty pore hides the frame
     check_range("phi", phi, 0.0, 1.0, low_open=True, high_open=True)
+    if np.any(K_sat > sum_phases(beta * K_i) * (1.0 + 1e-12)):
+        raise ValueError("K_sat must not exceed the Voigt average of the solids, "
+                         "sum(solid_fractions * K_solid): no porous rock is stiffer")
     if np.any(K_fluid >= np.min(K_i, axis=-1)):
         raise ValueError("K_fluid must be below the bulk moduli of all solids for the inverse: a "
                          "fluid as stiff as the solid hides the frame")
@@ -238,7 +255,11 @@ def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     disc = q1 * q1 - 4.0 * q2 * q0
     if np.any(disc < 0.0):
         raise ValueError("K_sat admits no real frame modulus for these solids, fluid and porosity")
-    root = 2.0 * q0 / (-q1 + np.sqrt(disc))
+    den = -q1 + np.sqrt(disc)
+    if np.any(den <= 0.0):
+        raise ValueError("K_sat does not determine a frame modulus at this phi: at a porosity "
+                         "this close to 0 every frame saturates to the mineral")
+    root = 2.0 * q0 / den
     # Round-off allowance: the inverse loses digits as K_fluid approaches the solid moduli
     # (relative conditioning ~ K_sat / (K_sat - Reuss(K_solid, K_fluid))).
     slack = 1e-9 * K_sat

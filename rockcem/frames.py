@@ -8,11 +8,15 @@ from __future__ import annotations
 import numpy as np
 
 from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
-                          check_positive, check_range, sum_phases)
+                          check_modulus, check_positive, check_range, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli
 
-__all__ = ["krief", "krief_multimineral", "krief_factor"]
+__all__ = ["krief", "krief_multimineral", "krief_factor", "MAX_KRIEF_EXPONENT"]
+
+#: Largest Krief exponent accepted (published values 2-4; 3 in [Carcione2022]_): far beyond it
+#: the frame is gone at any porosity, and A / (1 - phi) overflows.
+MAX_KRIEF_EXPONENT = 100.0
 
 
 def krief_factor(phi, A=3.0):
@@ -23,10 +27,11 @@ def krief_factor(phi, A=3.0):
     phi : float or array_like
         Porosity, in [0, 1). At ``phi -> 1`` the factor tends to 0 (returned as 0 at ``phi = 1``).
     A : float or array_like, optional
-        Dimensionless Krief exponent, ``> 0`` (3 in [Carcione2022]_ and [Krief1990]_).
+        Dimensionless Krief exponent, in (0, :data:`MAX_KRIEF_EXPONENT`] (3 in [Carcione2022]_
+        and [Krief1990]_).
     """
     phi = check_range("phi", as_array("phi", phi), 0.0, 1.0)
-    A = check_positive("A", as_array("A", A))
+    A = check_range("A", as_array("A", A), 0.0, MAX_KRIEF_EXPONENT, low_open=True)
     phi, A = broadcast(phi=phi, A=A)
     inside = phi < 1.0
     safe_phi = np.where(inside, phi, 0.0)
@@ -49,7 +54,7 @@ def krief(K_min, G_min, phi, A=3.0) -> Moduli:
         Porosity, in [0, 1]. The law is empirical; it holds for any porosity in that range, with
         the frame moduli falling monotonically to 0 at ``phi = 1``.
     A : float, optional
-        Krief exponent (dimensionless, ``> 0``); default 3.
+        Krief exponent (dimensionless, in (0, :data:`MAX_KRIEF_EXPONENT`]); default 3.
 
     Returns
     -------
@@ -62,8 +67,8 @@ def krief(K_min, G_min, phi, A=3.0) -> Moduli:
     >>> round(float(m.K), 3)
     17.324
     """
-    K_min = check_positive("K_min", as_array("K_min", K_min))
-    G_min = check_positive("G_min", as_array("G_min", G_min), allow_zero=True)
+    K_min = check_modulus("K_min", as_array("K_min", K_min))
+    G_min = check_modulus("G_min", as_array("G_min", G_min), allow_zero=True)
     broadcast(K_min=K_min, G_min=G_min, phi=as_array("phi", phi), A=as_array("A", A))
     factor = krief_factor(phi, A)
     K_min, G_min, factor = broadcast(K_min=K_min, G_min=G_min, phi=factor)
@@ -98,8 +103,8 @@ def krief_multimineral(K_solid, G_solid, solid_fractions, phi, A=3.0) -> Moduli:
     Moduli
         Per-mineral frame moduli, shape ``(..., n)``, GPa. Sum over the last axis for the frame.
     """
-    K = check_positive("K_solid", as_array("K_solid", K_solid))
-    G = check_positive("G_solid", as_array("G_solid", G_solid), allow_zero=True)
+    K = check_modulus("K_solid", as_array("K_solid", K_solid))
+    G = check_modulus("G_solid", as_array("G_solid", G_solid), allow_zero=True)
     beta = check_fractions("solid_fractions", as_array("solid_fractions", solid_fractions))
     beta, K, G, _, _ = broadcast_phases(("solid_fractions", beta), K_solid=K, G_solid=G,
                                         phi=as_array("phi", phi)[..., None],

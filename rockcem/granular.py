@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validation import as_array, broadcast, check_positive, check_range, stack_phases
+from .validation import (as_array, broadcast, check_modulus, check_positive, check_range,
+                          stack_phases)
 from .bounds import _harmonic
 from .constants import GPA_PER_MPA
 from .elastic import Moduli
@@ -48,8 +49,8 @@ def _coordination(n):
 
 
 def _mineral(name, K, G, *, shear_zero=False):
-    K = check_positive(f"K{name}", as_array(f"K{name}", K))
-    G = check_positive(f"G{name}", as_array(f"G{name}", G), allow_zero=shear_zero)
+    K = check_modulus(f"K{name}", as_array(f"K{name}", K))
+    G = check_modulus(f"G{name}", as_array(f"G{name}", G), allow_zero=shear_zero)
     nu = (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
     check_range(f"Poisson ratio of (K{name}, G{name})", nu, -1.0, 0.5, low_open=True,
                 high_open=not shear_zero)
@@ -66,10 +67,37 @@ def _porosity(phi, phic, name_phic="phic"):
     return phi, phic
 
 
+#: The range of every argument of the public functions below: (low, high, low_open,
+#: high_open), or "modulus" (a solid's, rockcem.validation.check_modulus).
+_RANGES = {
+    "K0": "modulus", "G0": "modulus", "Kc": "modulus", "Gc": "modulus",
+    "phi": (0.0, 1.0, False, False), "phic": (0.0, 1.0, True, True),
+    "phib": (0.0, 1.0, True, True), "n": (0.0, MAX_COORDINATION_NUMBER, True, False),
+    "pressure": (0.0, MAX_PRESSURE_MPA, False, False),
+    "delta": (0.0, MAX_PRESSURE_MPA, False, False), "f": (0.0, 1.0, False, False),
+    "thickness": (0.0, np.inf, False, True), "alpha": (0.0, 1.0, False, False),
+    "cement_fraction": (0.0, 1.0, False, False),
+    "contact_cement_limit": (0.0, 1.0, True, False),
+}
+
+
 def _shapes(**arrays):
-    """Refuse, by name, inputs whose shapes do not broadcast together, before any arithmetic
-    (so that a mismatch is reported with the arguments' names, not numpy's operands')."""
-    broadcast(**{name: as_array(name, value) for name, value in arrays.items()})
+    """Check every argument against its own range (:data:`_RANGES`), then refuse, by name,
+    shapes that do not broadcast together: all before any joint check (phi <= phic, the Poisson
+    ratio of a mineral) or arithmetic, so that a bad argument is always the one named, and a
+    shape mismatch with the arguments' names rather than numpy's operands."""
+    checked = {}
+    for name, value in arrays.items():
+        arr = as_array(name, value)
+        rule = _RANGES[name]
+        if rule == "modulus":
+            check_modulus(name, arr)
+        else:
+            lo, hi, lo_open, hi_open = rule
+            label = "n (coordination number)" if name == "n" else name
+            check_range(label, arr, lo, hi, low_open=lo_open, high_open=hi_open)
+        checked[name] = arr
+    broadcast(**checked)
 
 
 def _zeta(K, G):
@@ -275,9 +303,13 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
         alpha = np.sqrt(2.0 * x / 3.0)
         alpha, _, _ = broadcast(alpha=alpha, n=n, thickness=eps)
         return alpha
-    y = 4.0 * x / (3.0 * n)
-    root = eps + np.sqrt(eps * eps + y)
-    return np.sqrt(np.where(root > 0.0, 2.0 * y / np.where(root > 0.0, root, 1.0), 0.0))
+    # alpha^2 = 2y / (eps + sqrt(eps^2 + y)) = 2s / (r + sqrt(r^2 + 1)), s = sqrt(y), r = eps/s:
+    # no overflow for a tiny n (huge y) or a huge eps.
+    s = np.sqrt(4.0 * x / 3.0) / np.sqrt(n)
+    pos = s > 0.0
+    with np.errstate(over="ignore"):        # eps / s beyond 1e308: alpha^2 -> 2s / inf = 0
+        r = np.where(pos, eps / np.where(pos, s, 1.0), 0.0)
+        return np.sqrt(np.where(pos, 2.0 * s / (r + np.hypot(r, 1.0)), 0.0))
 
 
 def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
@@ -293,7 +325,7 @@ def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
     Parameters
     ----------
     alpha : float or array_like
-        Normalised cement radius :math:`a/R`, ``>= 0``.
+        Normalised cement radius :math:`a/R`, in [0, 1].
     phic, n, scheme, thickness
         As in :func:`cement_radius`.
 
@@ -304,7 +336,7 @@ def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
         the pore space holds (raises ``ValueError``).
     """
     _shapes(alpha=alpha, phic=phic, n=n, thickness=thickness)
-    alpha = check_positive("alpha", as_array("alpha", alpha), allow_zero=True)
+    alpha = check_range("alpha", as_array("alpha", alpha), 0.0, 1.0)
     phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
     n = _coordination(n)
     eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
@@ -437,6 +469,10 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     K0, G0, nu0 = _mineral("0", K0, G0)
     Kc, Gc, nuc = _mineral("c", Kc, Gc)
     alpha = cement_radius(phi, phic, n, scheme, thickness)
+    if np.any(alpha > 1.0):
+        raise ValueError(f"phi lies too far below phic for contact cement: the cement radius "
+                         f"a/R reaches {float(np.max(alpha)):.3g} > 1 (the theory holds for a/R "
+                         "up to about 0.5, a few per cent of cement)")
     phic = as_array("phic", phic)
     n = as_array("n", n)
     Lambda_n = 2.0 * (1.0 - nu0) * (1.0 - nuc) * (3.0 * Kc + Gc) / (3.0 * np.pi * G0)
@@ -447,8 +483,14 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     if stiffness == "fit":
         lo, hi = LAMBDA_RANGE
         for name, lam in (("Lambda_n", Lambda_n), ("Lambda_tau", Lambda_t)):
-            check_range(f"{name} (cement/grain stiffness ratio of the CCT fit)", lam, lo, hi)
+            check_range(f"{name}, the stiffness ratio of Kc, Gc to G0 in the CCT fit "
+                        "(stiffness='integral' holds beyond it),", lam, lo, hi)
         Sn, St = _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0)
+        if np.any((Sn < 0.0) | (St < 0.0)):
+            raise ValueError(f"phi lies too far below phic for the CCT fit at these Kc, Gc, "
+                             f"G0: the cement radius a/R reaches {float(np.max(alpha)):.3g}, "
+                             "where the fit's contact stiffness turns negative (it holds for "
+                             "a/R up to about 0.5; stiffness='integral' holds beyond it)")
     if stiffness == "integral" or np.any(eps > 0.0):
         from .contact_integral import cemented_contact_stiffness
 

@@ -11,12 +11,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast, broadcast_phases, check_fractions, check_positive,
-                         max_phases)
+from .validation import (as_array, broadcast, broadcast_phases, check_fractions, check_modulus,
+                         check_range, max_phases)
 from .bounds import hashin_shtrikman, reuss
 from .elastic import Moduli
 
-__all__ = ["berryman_pq", "self_consistent", "SolverInfo"]
+__all__ = ["berryman_pq", "self_consistent", "SolverInfo", "MIN_ASPECT_RATIO",
+           "MAX_ASPECT_RATIO"]
+
+#: Thinnest and most elongated spheroids accepted: a crack of 10^-8 (far thinner than the
+#: 10^-4 to 10^-2 of rock cracks) and a needle of 10^8; beyond them the shape factors overflow.
+MIN_ASPECT_RATIO, MAX_ASPECT_RATIO = 1e-8, 1e8
 
 # Gauss–Legendre nodes on [0, 1] for the smooth integral forms of theta and f near aspect ratio 1.
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(24)
@@ -179,7 +184,7 @@ def berryman_pq(K_m, G_m, K_i, G_i, aspect_ratio=1.0):
     K_i, G_i : float or array_like
         Inclusion moduli, GPa, ``>= 0`` (``G_i = 0`` for a fluid, ``K_i = G_i = 0`` for a vacuum).
     aspect_ratio : float or array_like
-        Spheroid aspect ratio, ``> 0``.
+        Spheroid aspect ratio, in [:data:`MIN_ASPECT_RATIO`, :data:`MAX_ASPECT_RATIO`].
 
     Returns
     -------
@@ -195,12 +200,17 @@ def berryman_pq(K_m, G_m, K_i, G_i, aspect_ratio=1.0):
     >>> bool(abs(P / P_s - 1) < 1e-8 and abs(Q / Q_s - 1) < 1e-8)
     True
     """
-    K_m = check_positive("K_m", as_array("K_m", K_m))
-    G_m = check_positive("G_m", as_array("G_m", G_m))
-    K_i = check_positive("K_i", as_array("K_i", K_i), allow_zero=True)
-    G_i = check_positive("G_i", as_array("G_i", G_i), allow_zero=True)
-    a = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
+    K_m = check_modulus("K_m", as_array("K_m", K_m))
+    G_m = check_modulus("G_m", as_array("G_m", G_m))
+    K_i = check_modulus("K_i", as_array("K_i", K_i), allow_zero=True)
+    G_i = check_modulus("G_i", as_array("G_i", G_i), allow_zero=True)
+    a = check_aspect_ratio(as_array("aspect_ratio", aspect_ratio))
     K_m, G_m, K_i, G_i, a = broadcast(K_m=K_m, G_m=G_m, K_i=K_i, G_i=G_i, aspect_ratio=a)
+    # A matrix whose K_m / G_m rounds its Poisson ratio to 0.5 (a ratio of ~1e17) is
+    # incompressible to float64, and the spheroid's factors divide by 1 - 2 nu.
+    check_range("Poisson ratio of the matrix (K_m, G_m)",
+                (3.0 * K_m - 2.0 * G_m) / (2.0 * (3.0 * K_m + G_m)), -1.0, 0.5, low_open=True,
+                high_open=True)
     theta, f = _theta_f(a)
     return _pq(K_m, G_m, K_i, G_i, theta, f, a == 1.0)
 
@@ -321,6 +331,11 @@ def _read_only(a):
 ENGINES = ("auto", "numpy", "numba")
 
 
+def check_aspect_ratio(a, name="aspect_ratio"):
+    """Aspect ratios in [:data:`MIN_ASPECT_RATIO`, :data:`MAX_ASPECT_RATIO`]."""
+    return check_range(name, a, MIN_ASPECT_RATIO, MAX_ASPECT_RATIO)
+
+
 def _check_engine(engine):
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {', '.join(map(repr, ENGINES))}; got {engine!r}")
@@ -368,7 +383,8 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     fractions : array_like, shape (..., n)
         Volume fractions, in [0, 1], summing to 1 along the last axis.
     aspect_ratio : float or array_like, shape (..., n)
-        Aspect ratio of each phase's spheroids (1 for spheres, the default), ``> 0``.
+        Aspect ratio of each phase's spheroids (1 for spheres, the default), in
+        [:data:`MIN_ASPECT_RATIO`, :data:`MAX_ASPECT_RATIO`].
     tol : float, optional
         Convergence tolerance: a point has converged when both the relative Newton step and the
         relative residual are below ``tol``, or when the residual is at round-off level
@@ -405,10 +421,10 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
     >>> round(float(m.K), 4), round(float(m.G), 4)
     (37.9284, 35.111)
     """
-    K = check_positive("K", as_array("K", K), allow_zero=True)
-    G = check_positive("G", as_array("G", G), allow_zero=True)
+    K = check_modulus("K", as_array("K", K), allow_zero=True)
+    G = check_modulus("G", as_array("G", G), allow_zero=True)
     frac = check_fractions("fractions", as_array("fractions", fractions))
-    a = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
+    a = check_aspect_ratio(as_array("aspect_ratio", aspect_ratio))
     broadcast_phases(("fractions", frac), K=K, G=G, aspect_ratio=a)   # names a mismatch
     if tol <= 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")

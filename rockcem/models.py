@@ -30,8 +30,9 @@ from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
-from .granular import MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA, patchy_cement
-from .inclusions import _check_engine, _self_consistent
+from .granular import (MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA, cement_radius,
+                       patchy_cement)
+from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
 
 __all__ = [
@@ -43,6 +44,12 @@ __all__ = [
     "MODELS",
     "bulk_density",
 ]
+
+
+#: Largest relative excess of Model 4's dry bulk modulus over its mineral's that is capped at
+#: the mineral (the two end members' definitions differ by < 1e-4 for quartz cement); beyond it
+#: :func:`patchy_cement_model` refuses.
+MAX_FRAME_EXCESS = 1e-3
 
 
 class RockProperties(NamedTuple):
@@ -164,6 +171,7 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
         Broadcast over the rock-state arrays.
     """
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
+    broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
     mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
                                        np.broadcast_to(G, beta.shape), beta)
@@ -187,7 +195,8 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     minerals, solid_fractions, porosity, fluid
         As in :func:`hs_gassmann`.
     aspect_ratio : float or array_like, shape (...)
-        Pore aspect ratio :math:`\gamma`, ``> 0`` (0.17 for the shale and 0.108 for the
+        Pore aspect ratio :math:`\gamma`, in [:data:`rockcem.inclusions.MIN_ASPECT_RATIO`,
+        :data:`rockcem.inclusions.MAX_ASPECT_RATIO`] (0.17 for the shale and 0.108 for the
         sandstone of [Carcione2022]_; 1 for spherical pores).
     tol : float, optional
         Tolerance of the Newton solver of :func:`rockcem.inclusions.self_consistent`.
@@ -202,7 +211,8 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     _check_engine(engine)
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     fluid = _fluid(fluid)
-    gamma = check_positive("aspect_ratio", as_array("aspect_ratio", aspect_ratio))
+    gamma = check_aspect_ratio(as_array("aspect_ratio", aspect_ratio))
+    broadcast(porosity=phi, aspect_ratio=gamma)
     if not tol > 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")
     frac = np.concatenate([(1.0 - phi)[..., None] * beta, phi[..., None]], axis=-1)
@@ -231,6 +241,7 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     Parameters and returns as in :func:`hs_gassmann`.
     """
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
+    broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
@@ -249,7 +260,12 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
     The dry frame is :func:`rockcem.granular.patchy_cement`. The mineral modulus in Gassmann's
     equation is the HS average of grain and cement in their solid proportions
     :math:`(1-\phi-\phi_p)/(1-\phi)` and :math:`\phi_p/(1-\phi)`, as for Models 1 and 3
-    (the paper does not say which mineral modulus it uses there).
+    (the paper does not say which mineral modulus it uses there). The dry frame's
+    zero-porosity end member is another mix of the same two solids (self-consistent, in
+    proportions :math:`1-\phi_0 : \phi_0`), so near zero porosity the frame can come out
+    stiffer than that mineral modulus: by less than :data:`MAX_FRAME_EXCESS` it is capped at
+    it (quartz cement: < 1e-4), beyond it the model is refused (a cement much softer than the
+    grain, up to 30 %).
 
     Parameters
     ----------
@@ -318,6 +334,14 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
         if np.any(value > phic * (1.0 + 1e-12)):
             raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
                              f"{name} in [0, critical_porosity])")
+    bonded = np.minimum(phip, knobs["contact_cement_limit"])
+    alpha = cement_radius(phic - bonded, phic, knobs["coordination_number"], scheme,
+                          knobs["thickness"])
+    if np.any(alpha > 1.0):
+        raise ValueError(f"the cement at the grain contacts (cement_fraction up to "
+                         f"contact_cement_limit) is more than the contact model holds at this "
+                         f"coordination_number and critical_porosity: its radius a/R reaches "
+                         f"{float(np.max(alpha)):.3g} > 1")
     dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, critical_porosity,
                         coordination_number, pressure, phip, contact_cement_limit, scheme,
                         thickness, f, delta)
@@ -327,9 +351,24 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
     G = np.array([grain.G, cement.G])
     mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
                                        np.broadcast_to(G, beta.shape), beta)
-    K_sat = gassmann(dry.K, mineral.K, fluid.K, phi)
+    # The dry frame's zero-porosity end member is the self-consistent mix of grain and cement
+    # in proportions 1 - critical_porosity : critical_porosity, the mineral modulus the HS
+    # average in the rock's own proportions: near zero porosity the frame may exceed the
+    # mineral, by < 1e-4 for quartz cement (capped here), by up to 30 % for a cement much
+    # softer than the grain (refused: the model does not hold there).
+    excess = dry.K / mineral.K
+    if np.any(excess > 1.0 + MAX_FRAME_EXCESS):
+        i = np.unravel_index(np.argmax(excess), excess.shape)
+        raise ValueError(
+            f"Model 4 does not hold at porosity {float(np.broadcast_to(phi, excess.shape)[i]):g}"
+            f", cement_fraction {float(np.broadcast_to(phip, excess.shape)[i]):g}: its dry "
+            f"frame ({float(dry.K[i]):.4g} GPa) is stiffer than the grain and cement it is made "
+            f"of ({float(mineral.K[i]):.4g} GPa), as happens near zero porosity with a cement "
+            "much softer than the grain")
+    K_dry = np.minimum(dry.K, mineral.K)
+    K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
     rho = bulk_density([grain.rho, cement.rho], beta, phi, fluid.rho)
-    return _finish(dry.K, dry.G, K_sat, dry.G, rho)
+    return _finish(K_dry, dry.G, K_sat, dry.G, rho)
 
 
 #: The petro-elastic models by their label in datasets (coordinate ``model``).

@@ -10,12 +10,20 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_DENSITY", "as_array", "as_scalar", "check_range", "check_positive",
-           "check_fractions", "broadcast", "broadcast_phases", "stack_phases", "sum_phases",
-           "max_phases", "min_phases"]
+__all__ = ["MAX_DENSITY", "MIN_DENSITY", "MAX_MODULUS", "MIN_MODULUS", "as_array", "as_scalar",
+           "check_range", "check_positive", "check_modulus", "check_fractions", "broadcast",
+           "broadcast_phases", "stack_phases", "sum_phases", "max_phases", "min_phases"]
 
 #: Largest density accepted anywhere, g/cm³: above that of osmium (22.6), the densest element.
 MAX_DENSITY = 25.0
+#: Smallest density a velocity is computed from, g/cm³ (a thousandth of air's at the surface).
+MIN_DENSITY = 1e-6
+#: Largest elastic modulus accepted anywhere, GPa: a million times diamond's, far beyond any
+#: stiffness contrast a model is asked for, and below a modulus given in Pa by mistake (quartz:
+#: 3.7e10 Pa). Products and ratios of a few moduli stay finite in float64.
+MAX_MODULUS = 1e9
+#: Smallest modulus accepted where a modulus must be positive (a solid's), GPa: 1 Pa.
+MIN_MODULUS = 1e-9
 
 
 def as_array(name: str, value) -> np.ndarray:
@@ -27,15 +35,22 @@ def as_array(name: str, value) -> np.ndarray:
     """
     if value is None:
         raise ValueError(f"{name} must be a real number, got None")
-    if isinstance(value, (str, bytes)) or np.asarray(value).dtype.kind in "USO" and any(
-            isinstance(v, (str, bytes)) for v in np.asarray(value, dtype=object).flat):
+    if isinstance(value, (str, bytes)):
         raise ValueError(f"{name} must be a real number, got text {value!r}")
-    if np.iscomplexobj(value):
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):          # ragged nested sequences
+        raise ValueError(f"{name} must be a real number or a rectangular array of real "
+                         "numbers") from None
+    if raw.dtype.kind in "USO" and any(isinstance(v, (str, bytes)) for v in raw.flat):
+        raise ValueError(f"{name} must be a real number, got text {value!r}")
+    if raw.dtype.kind == "c" or (raw.dtype.kind == "O"
+                                 and any(isinstance(v, complex) for v in raw.flat)):
         raise ValueError(f"{name} must be real, got a complex value")
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a real number or an array of real numbers") from exc
+        arr = np.asarray(raw, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or an array of real numbers") from None
     if np.isnan(arr).any():
         raise ValueError(f"{name} contains NaN")
     return arr
@@ -65,6 +80,21 @@ def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
 def check_positive(name: str, arr: np.ndarray, *, allow_zero: bool = False) -> np.ndarray:
     """Raise ``ValueError`` unless ``arr > 0`` (or ``>= 0`` with ``allow_zero``) and finite."""
     return check_range(name, arr, 0.0, np.inf, low_open=not allow_zero, high_open=True)
+
+
+def check_modulus(name: str, arr: np.ndarray, *, allow_zero: bool = False) -> np.ndarray:
+    """Raise ``ValueError`` unless every modulus lies in [:data:`MIN_MODULUS`,
+    :data:`MAX_MODULUS`] GPa; with ``allow_zero`` 0 and anything below is accepted too (a
+    fluid's shear modulus, a frame at porosity 1)."""
+    arr_ = np.asarray(arr)
+    low = (arr_ < 0.0) if allow_zero else (arr_ < MIN_MODULUS)
+    bad = low | ~(arr_ <= MAX_MODULUS)
+    if np.any(bad):
+        worst = arr_[bad].flat[0]
+        hint = "; a modulus in Pa? (give GPa)" if worst > MAX_MODULUS else ""
+        lo = "[0" if allow_zero else f"[{MIN_MODULUS:g}"
+        raise ValueError(f"{name} must lie in {lo}, {MAX_MODULUS:g}] GPa; got {worst:g}{hint}")
+    return arr
 
 
 def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> np.ndarray:

@@ -63,6 +63,7 @@ def test_intergranular_volume_final_bound_includes_the_matrix(expect_value_error
     (lambda: smectite_fraction(PATH, 0.9, activation_energy=1e300), "activation_energy", ""),
     (lambda: pressures(PATH, sediment_density=np.nan), "sediment_density", "NaN"),
     (lambda: pressures("path"), "path", ""),
+    (lambda: quartz_cement(PATH, 0.36, 1e-300, 0.65), "grain_size", r"\[1e-06, inf\)"),
 ])
 def test_bad_input_names_the_argument(call, name, match):
     with warnings.catch_warnings():
@@ -149,7 +150,7 @@ def test_shifted_path_depth_step_bounded(expect_value_error):
 # --- extreme but valid input: finite, bounded, no warning ---------------------------------------
 @pytest.mark.parametrize("kwargs", [
     dict(rate_constant=1e300),                      # overflowed k with a warning
-    dict(grain_size=1e-300),
+    dict(grain_size=1e-6),                          # the smallest accepted (1 nm)
     dict(porosity0=1e-300),
     dict(rate_exponent=0.1),
     dict(quartz_fraction=0.0, rate_constant=1e300),  # k = 0 with an infinite integral
