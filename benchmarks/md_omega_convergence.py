@@ -35,25 +35,15 @@ NAME = "md_omega_convergence"
 
 
 def richardson(omega, value):
-    """Limit and order ``p`` of M(Omega) = M_inf + C Omega^-p through the three finest points;
-    NaN where the last two changes do not shrink with one sign (not in the asymptotic range)."""
-    from scipy.optimize import brentq
+    """Limit and order ``p`` of M(Omega) = M_inf + C Omega^-p through the three finest points
+    (:func:`md.convergence.richardson` with orders 0.05-12); NaN where the last two changes do
+    not shrink with one sign (not in the asymptotic range)."""
+    from md.convergence import richardson as three_point
 
     o, v = np.asarray(omega, float)[-3:], np.asarray(value, float)[-3:]
-    if len(o) < 3:
+    if len(o) < 3 or not abs(v[2] - v[1]) < abs(v[1] - v[0]):
         return np.nan, np.nan
-    d1, d2 = v[1] - v[0], v[2] - v[1]
-    if not (d1 * d2 > 0 and abs(d2) < abs(d1)):
-        return np.nan, np.nan
-
-    def f(q):
-        return (o[1] ** -q - o[2] ** -q) / (o[0] ** -q - o[1] ** -q) - d2 / d1
-    try:
-        p = brentq(f, 0.05, 12.0)
-    except ValueError:
-        return np.nan, np.nan
-    c = d2 / (o[2] ** -p - o[1] ** -p)
-    return float(v[2] - c * o[2] ** -p), float(p)
+    return three_point(o, v, order_range=(0.05, 12.0))
 
 
 def first_order_fit(omega, value, omega_min):

@@ -122,7 +122,10 @@ def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key
 
     t0 = time.perf_counter()
     pack = load_pack(pack_file)
-    res = [_member(pack, fraction, scheme, om, cement, options) for om in omegas]
+    if fraction > 0:
+        res = [_member(pack, fraction, scheme, om, cement, options) for om in omegas]
+    else:                       # no cement, no lattice: one solve stands for every resolution
+        res = [_member(pack, fraction, scheme, omegas[0], cement, options)] * len(omegas)
     values = {"p_modulus": res[0][0], "shear_modulus": res[0][1], "density": res[0][2],
               "p_modulus_check": res[1][0] if len(res) > 1 else np.nan,
               "shear_modulus_check": res[1][1] if len(res) > 1 else np.nan,

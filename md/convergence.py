@@ -37,7 +37,7 @@ ORDER_RANGE = (0.5, 3.0)
 SETTLED = 0.01
 
 
-def richardson(omegas, values):
+def richardson(omegas, values, *, order_range=ORDER_RANGE):
     """Limit and observed order of three values at three resolutions.
 
     Parameters
@@ -46,13 +46,15 @@ def richardson(omegas, values):
         Distinct resolutions, any order.
     values : sequence of 3 float
         The quantity at each.
+    order_range : (float, float)
+        Orders accepted, default :data:`ORDER_RANGE`.
 
     Returns
     -------
     (float, float)
         :math:`X_\\infty` and :math:`p`; NaN, NaN where the three are not in the asymptotic
         range (the changes differ in sign, one is zero, or the order falls outside
-        :data:`ORDER_RANGE`).
+        ``order_range``).
     """
     from scipy.optimize import brentq
 
@@ -75,7 +77,7 @@ def richardson(omegas, values):
     def f(q):
         return (o[1] ** -q - o[0] ** -q) / (o[2] ** -q - o[1] ** -q) - ratio
 
-    lo, hi = ORDER_RANGE
+    lo, hi = order_range
     if f(lo) * f(hi) > 0:                           # f falls with q: no root in the range
         return np.nan, np.nan
     p = brentq(f, lo, hi, xtol=1e-12)

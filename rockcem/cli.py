@@ -139,23 +139,24 @@ def _check_scheduler(address):
     """Refuse ``--scheduler`` in one line before any work unless it is ``local`` or a TCP
     address (``tcp://host:port``, ``tls://...`` or ``host:port``) where something answers
     within :data:`SCHEDULER_CONNECT_TIMEOUT_S` (other dask protocols are passed on as given)."""
+    if address is None or address == "local":
+        return
     import asyncio
     import socket
     from urllib.parse import urlsplit
 
-    if address is None or address == "local":
-        return
+    bad = ValueError(f"--scheduler {address!r}: expected 'local' or a dask scheduler "
+                     "address such as tcp://host:8786")
     where = address if "://" in address else f"tcp://{address}"
     try:
         url = urlsplit(where)
         host, port = url.hostname, url.port
-    except ValueError:
-        host = port = None
+    except ValueError:          # urlsplit itself refuses it ('tcp://[::1:8786')
+        raise bad from None
     if url.scheme not in ("tcp", "tls"):
         return
     if not host or port is None:
-        raise ValueError(f"--scheduler {address!r}: expected 'local' or a dask scheduler "
-                         "address such as tcp://host:8786")
+        raise bad
     def refuse(reason):
         return ValueError(f"--scheduler {address}: no dask scheduler answers at {host}:{port} "
                           f"({reason}); start one (`dask scheduler`) or use --scheduler local")

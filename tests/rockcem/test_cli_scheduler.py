@@ -81,7 +81,8 @@ def test_a_server_that_is_not_dask_is_refused(garbage_server):
     assert time.monotonic() - start < 2 * SCHEDULER_CONNECT_TIMEOUT_S + 1
 
 
-@pytest.mark.parametrize("address", ["tcp://host", "tcp://host:port", "nonsense::", ":8786"])
+@pytest.mark.parametrize("address", ["tcp://host", "tcp://host:port", "nonsense::", ":8786",
+                                     "tcp://[::1:8786", "[::1"])
 def test_malformed_address(address):
     with pytest.raises(ValueError, match=r"expected 'local' or a dask scheduler address"):
         _check_scheduler(address)
