@@ -58,27 +58,15 @@ def run_tasks(fn, tasks, *, scheduler=None, jobs=1, progress=False, desc="tasks"
 
 
 def _dask(fn, tasks, scheduler, jobs, bar):
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise ValueError("running MD tasks on dask needs the 'dask' extra: "
-                         "pip install 'rockcem[dask]'") from None
+    from rockcem._scheduler import dask_client
+
     if not isinstance(scheduler, str) or not scheduler:
         raise ValueError(f"scheduler must be 'local' or a dask scheduler address; "
                          f"got {scheduler!r}")
-    cluster = None
-    if scheduler == "local":
-        cluster = LocalCluster(n_workers=max(jobs, 2), threads_per_worker=1,
-                               processes=True, dashboard_address=None)
-        client = Client(cluster)
-    else:
-        client = Client(scheduler)
-    try:
+    with dask_client(scheduler, max(jobs, 2), what="running MD tasks on dask") as client:
+        from dask.distributed import as_completed
+
         futures = {client.submit(fn, *task, pure=False): task for task in tasks}
         for fut in as_completed(futures):
             yield futures[fut], fut.result()
             bar.update()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()

@@ -54,6 +54,47 @@ def drop_speed(height, drag, gravity=GRAVITY):
     return float(brentq(fallen, 0.0, top, xtol=1e-15, rtol=1e-13))
 
 
+#: Most grains :func:`settle` drops (it refuses a larger box up front, naming ``size``): memory
+#: grows with the count, and a pack of this many grains already settles in hours on one core.
+MAX_GRAINS = 100_000
+
+
+def grain_count(size, radius_range) -> int:
+    """Grains :func:`settle` drops to fill a box of ``size`` largest diameters to its target
+    height at a porosity of 0.4 (radii uniform in ``radius_range``)."""
+    r_min, r_max = map(float, radius_range)
+    d = 2.0 * r_max
+    volume = size[0] * size[1] * size[2] * d**3
+    return max(int(round(0.6 * volume / _mean_volume(r_min, r_max))), 2)
+
+
+def check_size(size, radius_range=(0.9, 1.0), *, name="size") -> tuple:
+    """Check a box ``size`` (three finite numbers of largest diameters, wider than two, at
+    least 5 high) and that it holds at most :data:`MAX_GRAINS` grains; returns it as floats.
+
+    Raises ``ValueError`` naming ``name``.
+    """
+    try:
+        size = tuple(float(x) for x in size)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be three numbers of largest diameters; got {size!r}"
+                         ) from None
+    if len(size) != 3 or not all(np.isfinite(size)) or min(size) <= 0:
+        raise ValueError(f"{name} must be three positive finite numbers of largest diameters; "
+                         f"got {size!r}")
+    if size[0] <= 2 or size[1] <= 2:
+        raise ValueError(f"{name}: the box must be wider than two largest diameters; got "
+                         f"{size!r}")
+    if size[2] < 5:
+        raise ValueError(f"{name}: the height must be at least 5 largest diameters (a core "
+                         f"between the end slabs); got {size!r}")
+    n = grain_count(size, radius_range)
+    if n > MAX_GRAINS:
+        raise ValueError(f"{name} {list(size)} holds about {n:.3g} grains; at most "
+                         f"{MAX_GRAINS} (md.deposit.MAX_GRAINS)")
+    return size
+
+
 def _mean_volume(r_min, r_max):
     if r_max == r_min:
         return 4.0 / 3.0 * np.pi * r_max**3
@@ -210,7 +251,7 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
     size : (float, float, float)
         Box width, depth and target height in largest diameters; the number of grains fills the
         target height at a porosity of 0.4. Default (8, 8, 32), the source's sample. The height
-        must leave a core between the end slabs (at least 5).
+        must leave a core between the end slabs (at least 5); at most :data:`MAX_GRAINS` grains.
     radius_range : (float, float)
         Smallest and largest radius, m; default 0.18–0.20 mm (the source's).
     material : GrainMaterial
@@ -242,15 +283,10 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
         seed and parameters.
     """
     r_min, r_max = map(float, radius_range)
-    if not 0 < r_min <= r_max:
-        raise ValueError("radius_range must satisfy 0 < min <= max")
-    if len(size) != 3 or min(size) <= 0:
-        raise ValueError("size must be three positive numbers of largest diameters")
-    if size[0] <= 2 or size[1] <= 2:
-        raise ValueError("size: the box must be wider than two largest diameters")
-    if size[2] < 5:
-        raise ValueError("size: the height must be at least 5 largest diameters (a core between "
-                         "the end slabs)")
+    if not 0 < r_min <= r_max < np.inf:
+        raise ValueError(f"radius_range must satisfy 0 < min <= max (finite, m); got "
+                         f"{radius_range!r}")
+    size = check_size(size, (r_min, r_max))
     if protocol not in PROTOCOLS:
         raise ValueError(f"protocol must be one of {', '.join(PROTOCOLS)}; got {protocol!r}")
     if not 0 < fall_stiffness_factor <= 1:
@@ -272,7 +308,7 @@ def settle(size=(8, 8, 32), radius_range=(1.8e-4, 2.0e-4), *, material: GrainMat
         raise ValueError(f"wave must lie in [1, {int(0.5 * monolayer)}] (half a monolayer)")
 
     rng = np.random.default_rng(seed)
-    n = max(int(round(0.6 * lx * ly * height / _mean_volume(r_min, r_max))), 2)
+    n = grain_count(size, (r_min, r_max))
     radii = rng.uniform(r_min, r_max, n)
     box = Box(lx, ly, 0.0, max(drop_height, 1.2 * height) + 2.0 * d)
     run = _Run(box, material, drag, 0.3 * r_max)

@@ -108,12 +108,13 @@ def md_scene_from_dict(raw: dict) -> dict:
                 raise _bad(k, f"must be a string; got {v!r}")
         elif not (isinstance(v, list) and v and all(isinstance(x, str) for x in v)):
             raise _bad(k, f"must be a list of names; got {v!r}")
-    if len(p["size"]) != 3 or min(p["size"]) < 2:
-        raise _bad("size", f"must be three numbers >= 2; got {p['size']}")
     lo, hi = (p["radius_range"] + [0.0])[:2]
     if len(p["radius_range"]) != 2 or not 0 < lo <= hi:
         raise _bad("radius_range", f"must be [smallest, largest] with 0 < smallest <= largest; "
                                    f"got {p['radius_range']}")
+    from .deposit import check_size
+
+    check_size(p["size"], p["radius_range"], name="scene key md.size")
     for key, valid in (("samples", ("loose", "compacted")), ("schemes", _SCHEMES),
                        ("cements", _CEMENTS)):
         bad = [x for x in p[key] if x not in valid]
@@ -144,8 +145,19 @@ def md_scene_from_dict(raw: dict) -> dict:
     if not 0 < p["fall_stiffness_factor"] <= 1:
         raise _bad("fall_stiffness_factor", f"must lie in (0, 1]; got "
                                             f"{p['fall_stiffness_factor']}")
-    return {"name": str(raw.get("name", "md")), "description": str(raw.get("description", "")),
-            "output": str(raw.get("output", f"{raw.get('name', 'md')}.nc")), "md": p}
+    from rockcem.scene import _check_scene_name
+
+    head = {"name": "md", "description": "", "output": None, **{k: raw[k] for k in raw
+                                                                 if k != "md"}}
+    for key, value in head.items():
+        if value is not None and not isinstance(value, str):
+            raise ValueError(f"scene key {key} must be a string; got {value!r}")
+    _check_scene_name(head["name"])
+    if head["output"] is not None and not head["output"].strip():
+        raise ValueError("scene key output must name a file (leave it out for <name>.nc); "
+                         "got ''")
+    return {"name": head["name"], "description": head["description"],
+            "output": head["output"] or f"{head['name']}.nc", "md": p}
 
 
 class _Cementation:
@@ -352,8 +364,11 @@ def run_md_scene(scene: dict, *, workdir=None, jobs=1, scheduler=None, progress=
     from .observe import coordination_number, pack_stress, porosity
     from .protocols import prepare_pack
 
+    from rockcem._scheduler import check_scheduler
+
     if not (isinstance(jobs, int) and jobs >= 1):
         raise ValueError(f"jobs must be an integer >= 1; got {jobs!r}")
+    check_scheduler(scheduler)
     p = scene["md"]
     folder = Path(workdir or p["workdir"] or Path(scene["output"]).with_suffix("").name + "_work")
     folder.mkdir(parents=True, exist_ok=True)

@@ -128,21 +128,33 @@ def load_pack(path) -> Pack:
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"no pack file {str(path)!r}")
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        ds = ds.load()
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            ds = ds.load()
+    except (OSError, ValueError, RuntimeError) as exc:
+        # netCDF4 raises OSError ("NetCDF: Unknown file format", "Invalid argument") for an empty,
+        # truncated or foreign file, RuntimeError ("NetCDF: HDF error") for a damaged HDF5 one.
+        raise ValueError(f"pack file {str(path)!r} cannot be read as netCDF (empty, truncated "
+                         f"or not a pack file: {exc}); write it again with md.save_pack"
+                         ) from None
     try:
         box = Box(**json.loads(ds.attrs["box_json"]))
         material = GrainMaterial(**json.loads(ds.attrs["material_json"]))
         metadata = json.loads(ds.attrs["metadata_json"])
-    except (KeyError, TypeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path.name} is not a rockcem pack file: {exc}") from None
+        stage, time = str(ds.attrs["stage"]), float(ds.attrs["time_s"])
+        arrays = {name: ds[name].values for name in ("positions", "velocities",
+                                                     "angular_velocities", "radii", "pairs",
+                                                     "history")}
+    except (KeyError, TypeError, ValueError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path.name} is not a rockcem pack file (missing or bad "
+                         f"{exc}); write it again with md.save_pack") from None
     return Pack(
-        positions=np.ascontiguousarray(ds.positions.values),
-        velocities=np.ascontiguousarray(ds.velocities.values),
-        angular_velocities=np.ascontiguousarray(ds.angular_velocities.values),
-        radii=np.ascontiguousarray(ds.radii.values),
+        positions=np.ascontiguousarray(arrays["positions"]),
+        velocities=np.ascontiguousarray(arrays["velocities"]),
+        angular_velocities=np.ascontiguousarray(arrays["angular_velocities"]),
+        radii=np.ascontiguousarray(arrays["radii"]),
         box=box, material=material,
-        pairs=np.ascontiguousarray(ds.pairs.values, dtype=np.int32),
-        history=np.ascontiguousarray(ds.history.values),
-        stage=str(ds.attrs["stage"]), time=float(ds.attrs["time_s"]), metadata=metadata,
+        pairs=np.ascontiguousarray(arrays["pairs"], dtype=np.int32),
+        history=np.ascontiguousarray(arrays["history"]),
+        stage=stage, time=time, metadata=metadata,
     )

@@ -127,9 +127,9 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     params = resolve_checks(params)
     if not 0 <= params["radius_spread"] < 1:
         raise ValueError(f"radius_spread must lie in [0, 1); got {params['radius_spread']}")
-    if len(params["size"]) != 3 or min(params["size"]) < 2:
-        raise ValueError(f"size must be three numbers >= 2 (grain diameters); got "
-                         f"{params['size']}")
+    from md.deposit import check_size
+
+    check_size(params["size"], (1.0 - params["radius_spread"], 1.0), name="models.md.size")
     r_max = grain_size / 2.0 * 1e-3
     g_mat, c_mat = _materials(grain, cement)
     work = Path(params["workdir"]) if params["workdir"] else Path(workdir)

@@ -9,6 +9,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ._scheduler import check_scheduler
 from .cli_wells import output_file
 
 __all__ = ["main"]
@@ -65,10 +66,11 @@ def _run_md(raw, args) -> int:
     """An MD scene (a TOML with an [md] table): packs, cement, pulse tests (numba's md)."""
     from md.experiment import md_scene_from_dict, run_md_scene
 
-    from .scene import _check_scene_name, write_dataset
+    from .scene import write_dataset
 
     scene = md_scene_from_dict(raw)
-    _check_scene_name(raw.get("name", scene["name"]))
+    if args.max_members is not None:
+        raise ValueError("--max-members bounds the sweep of a scene; an MD scene has no sweep")
     out = output_file(args.output, scene["output"])
     # Stage files beside the output (<stem>_work), unless the scene names a folder.
     work = scene["md"]["workdir"] or Path(out).with_name(Path(out).stem + "_work")
@@ -130,72 +132,18 @@ def _md_summary(ds, *, width=100) -> str:
     return "\n".join(lines)
 
 
-#: Seconds ``--scheduler ADDRESS`` waits for the scheduler to answer before the run starts
-#: (dask's own client waits 30 s, and only when the first task is sent).
-SCHEDULER_CONNECT_TIMEOUT_S = 5.0
-
-
-def _check_scheduler(address):
-    """Refuse ``--scheduler`` in one line before any work unless it is ``local`` or a TCP
-    address (``tcp://host:port``, ``tls://...`` or ``host:port``) where something answers
-    within :data:`SCHEDULER_CONNECT_TIMEOUT_S` (other dask protocols are passed on as given)."""
-    if address is None or address == "local":
-        return
-    import asyncio
-    import socket
-    from urllib.parse import urlsplit
-
-    bad = ValueError(f"--scheduler {address!r}: expected 'local' or a dask scheduler "
-                     "address such as tcp://host:8786")
-    where = address if "://" in address else f"tcp://{address}"
-    try:
-        url = urlsplit(where)
-        host, port = url.hostname, url.port
-    except ValueError:          # urlsplit itself refuses it ('tcp://[::1:8786')
-        raise bad from None
-    if url.scheme not in ("tcp", "tls"):
-        return
-    if not host or port is None:
-        raise bad
-    def refuse(reason):
-        return ValueError(f"--scheduler {address}: no dask scheduler answers at {host}:{port} "
-                          f"({reason}); start one (`dask scheduler`) or use --scheduler local")
-
-    try:
-        with socket.create_connection((host, port), timeout=SCHEDULER_CONNECT_TIMEOUT_S):
-            pass
-    except OSError as exc:
-        raise refuse("timed out" if isinstance(exc, TimeoutError)
-                     else (exc.strerror or str(exc))) from None
-    try:
-        from distributed.comm import connect
-    except ImportError:
-        raise ValueError("--scheduler needs the 'dask' extra: pip install 'rockcem[dask]'"
-                         ) from None
-
-    async def handshake():
-        comm = await connect(where, timeout=SCHEDULER_CONNECT_TIMEOUT_S)
-        await comm.close()
-
-    # Something listens there: is it dask? (A server that is not can make dask's handshake read
-    # a garbage length and ask for exabytes, or never answer.)
-    try:
-        asyncio.run(asyncio.wait_for(handshake(), 2 * SCHEDULER_CONNECT_TIMEOUT_S))
-    except (OSError, TimeoutError, MemoryError, ValueError) as exc:
-        raise refuse(f"something listens there, but not a dask scheduler: "
-                     f"{type(exc).__name__}") from None
-
-
 def _run(args) -> int:
     from .scene import read_scene_toml, run_scene, scene_from_dict, scene_path, write_dataset
 
-    _check_scheduler(args.scheduler)
+    check_scheduler(args.scheduler, name="--scheduler")
     raw, text = read_scene_toml(args.scene)
     if "md" in raw:
         return _run_md(raw, args)
     scene = scene_from_dict(raw, text=text, base_dir=scene_path(args.scene).parent)
     out = output_file(args.output, scene.output)
-    ds = run_scene(scene, scheduler=args.scheduler, jobs=args.jobs, progress=not args.quiet)
+    limit = {} if args.max_members is None else {"max_members": args.max_members}
+    ds = run_scene(scene, scheduler=args.scheduler, jobs=args.jobs, progress=not args.quiet,
+                   **limit)
     path = write_dataset(ds, out)
     if not args.quiet:
         print(_summary(ds))
@@ -392,6 +340,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-j", "--jobs", type=_positive_int, default=1,
                    help="processes for the MD members (pulse tests of an MD study, depths and "
                         "schemes of [models.md]); workers of --scheduler local (default 1)")
+    p.add_argument("--max-members", type=_positive_int, default=None,
+                   help="most sweep members to run (default "
+                        "rockcem.scene.MAX_SWEEP_MEMBERS, 10000); a larger sweep is refused "
+                        "before any work")
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")

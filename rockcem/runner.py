@@ -418,19 +418,9 @@ def _sweep_attrs(key):
 
 
 def _run_dask(members, scheduler, progress):
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise ValueError("running a sweep on dask needs the 'dask' extra: "
-                         "pip install 'rockcem[dask]'") from None
-    cluster = None
-    if scheduler == "local":
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-        client = Client(cluster)
-    else:
-        client = Client(scheduler)
-    try:
+    from ._scheduler import dask_client
+
+    with dask_client(scheduler, 2, what="running a sweep on dask") as client:
         n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
         n_chunks = min(len(members), 8 * n_workers)
         chunks = [list(c) for c in np.array_split(np.arange(len(members)), n_chunks)]
@@ -440,7 +430,3 @@ def _run_dask(members, scheduler, progress):
 
             dask_progress(futures)
         return [item for part in client.gather(futures) for item in part]
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()

@@ -43,7 +43,8 @@ from ._data import data_path
 from ._toml import toml_value
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
-           "run_scene", "write_dataset", "MODEL_OUTPUTS", "STATE_OUTPUTS", "CALIBRATED_MODELS"]
+           "run_scene", "write_dataset", "MAX_SWEEP_MEMBERS", "sweep_size", "MODEL_OUTPUTS",
+           "STATE_OUTPUTS", "CALIBRATED_MODELS"]
 
 _REQUIRED = object()
 
@@ -303,6 +304,9 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
                              f"{_suggest(k, set(SCHEMA['scene']) | _TOP_SECTIONS)}")
     head = _section("scene", top, SCHEMA["scene"])
     _check_scene_name(head["name"])
+    if head["output"] is not None and not head["output"].strip():
+        raise ValueError("scene key output must name a file (leave it out for <name>.nc); "
+                         f"got {head['output']!r}")
     lithology = head["lithology"]
     if lithology not in ("sandstone", "shale"):
         raise ValueError(f"scene key lithology must be 'sandstone' or 'shale'; got {lithology!r}")
@@ -340,12 +344,21 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     # "time" was the name of burial_time before it was renamed (a variable called "time" reads as
     # a CF time coordinate); scene files that still list it keep working.
     outputs = ["burial_time" if name == "time" else name for name in outputs]
+    if not outputs:
+        raise ValueError("scene key outputs must name at least one variable (leave it out for "
+                         f"all of them: {', '.join(valid_outputs)})")
     for name in outputs:
         if name not in valid_outputs:
             hint = (" (model outputs need at least one model in [models])"
                     if name in MODEL_OUTPUTS else _suggest(name, valid_outputs))
             raise ValueError(f"scene output {name!r} is not available for this scene{hint}")
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
+    rates = [k for k in ("sedimentation_rate", "heating_rate")
+             if k in raw.get("path", {}) or f"path.{k}" in sweep]
+    if len(rates) == 2:
+        raise ValueError("scene keys path.sedimentation_rate and path.heating_rate both given "
+                         "(set or swept): heating_rate sets the burial rate (S = H / G), so "
+                         "give one of them")
     for dotted in sweep:
         section, _, key = dotted.rpartition(".")
         if scene_cal is not None and dotted in scene_cal["parameters"]:
@@ -494,7 +507,21 @@ def shipped_scenes() -> dict[str, Path]:
 
 
 # ----------------------------------------------------------------------------- running
-def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False):
+#: Most members a sweep may have unless ``run_scene(max_members=...)`` (``rockcem run
+#: --max-members``) says otherwise. A member of the shipped scenes takes 0.02-0.2 s (1 200-6 000
+#: depths, 2-4 models), so this many is minutes to half an hour on one core; a mistyped sweep of
+#: 10^6 members is refused up front instead of starting a run of days.
+MAX_SWEEP_MEMBERS = 10_000
+
+
+def sweep_size(scene: Scene) -> int:
+    """Members of the scene's sweep: the product of the swept lists' lengths (1 without one)."""
+    return int(np.prod([len(v) for v in scene.sweep.values()], dtype=float)) \
+        if scene.sweep else 1
+
+
+def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False,
+              max_members=MAX_SWEEP_MEMBERS):
     """Run a scene: burial → rock state → models → one ``xarray.Dataset``.
 
     Parameters
@@ -512,13 +539,38 @@ def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False):
         cluster with ``scheduler="local"``); default 1.
     progress : bool, keyword-only
         Show a progress bar over the sweep members.
+    max_members : int, keyword-only
+        Most sweep members to run; default :data:`MAX_SWEEP_MEMBERS`. A larger sweep is refused
+        before any work (raise this to run it anyway).
 
     Returns
     -------
     xarray.Dataset
+
+    Raises
+    ------
+    ValueError
+        A sweep larger than ``max_members``; ``jobs`` not an integer >= 1; a ``scheduler``
+        address where no dask scheduler answers (refused within
+        :data:`rockcem._scheduler.SCHEDULER_CONNECT_TIMEOUT_S`).
     """
+    from ._scheduler import check_scheduler
     from .runner import run
 
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a Scene (load_scene or scene_from_dict); got "
+                         f"{type(scene).__name__}")
+    for name, value in (("jobs", jobs), ("max_members", max_members)):
+        if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+                and value >= 1):
+            raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+    members = sweep_size(scene)
+    if members > max_members:
+        shape = " x ".join(f"{len(v)} {k.rpartition('.')[2]}" for k, v in scene.sweep.items())
+        raise ValueError(f"the sweep has {members} members ({shape}), above max_members = "
+                         f"{max_members}; pass max_members={members} (rockcem run "
+                         f"--max-members {members}) to run it anyway")
+    check_scheduler(scheduler)
     return run(scene, scheduler=scheduler, jobs=jobs, progress=progress)
 
 

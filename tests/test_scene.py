@@ -177,6 +177,12 @@ BAD = [
     ({"sweep": {"path.gradiant": [20.0]}}, "did you mean 'path.gradient'"),
     ({"sandstone": {"grain_size": 0.0}}, "grain_size"),
     ({"name": None}, "required"),
+    # issue 24: silently ignored or empty before
+    ({"path": {"heating_rate": 1.2, "sedimentation_rate": 40.0}}, "both given"),
+    ({"path": {"heating_rate": 1.2}, "sweep": {"path.sedimentation_rate": [20.0, 40.0]}},
+     "both given"),
+    ({"outputs": []}, "outputs must name at least one variable"),
+    ({"output": ""}, "output must name a file"),
 ]
 
 
@@ -420,3 +426,34 @@ def test_sweeping_a_calibrated_parameter_is_refused(tmp_path):
     scene.write_text(text + '\n[sweep]\n"models.patchy_cement.coordination_number" = [6.0, 8.0]\n')
     with pytest.raises(ValueError, match="set by calibration 'garcia_medina_compacted_patchy'"):
         load_scene(scene)
+
+
+def test_a_sweep_above_max_members_is_refused_before_any_work(tmp_path, run_cli, monkeypatch):
+    """Issue 24: a sweep of 10^6 members started a run of days with no word."""
+    from rockcem import runner
+    from rockcem.scene import MAX_SWEEP_MEMBERS, sweep_size
+
+    raw = {**SANDSTONE, "outputs": ["porosity"],
+           "sweep": {"path.gradient": [20.0, 30.0, 40.0], "sandstone.beta": [0.01, 0.02]}}
+    scene = scene_from_dict(raw)
+    assert sweep_size(scene) == 6 and MAX_SWEEP_MEMBERS >= 1000
+
+    def never(*args, **kwargs):
+        raise AssertionError("the sweep ran")
+
+    monkeypatch.setattr(runner, "run", never)
+    with pytest.raises(ValueError, match=r"6 members \(3 gradient x 2 beta\), above "
+                                         r"max_members = 5; pass max_members=6"):
+        run_scene(scene, max_members=5)
+    for bad in (0, 2.5, True, "10"):
+        with pytest.raises(ValueError, match="max_members must be an integer >= 1"):
+            run_scene(scene, max_members=bad)
+    monkeypatch.undo()
+    assert run_scene(scene, max_members=6)["porosity"].shape[:2] == (3, 2)
+    from rockcem.scene import _to_toml
+
+    (tmp_path / "s.toml").write_text(_to_toml(raw))
+    out = run_cli(["run", str(tmp_path / "s.toml"), "-q", "--max-members", "5"], tmp_path)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert "--max-members 6" in out.stderr
+    assert sorted(os.listdir(tmp_path)) == ["s.toml"]

@@ -15,7 +15,7 @@ def scene(**md):
     ({"sheme": ["contact"]}, "did you mean 'schemes'"),
     ({"schemes": ["glue"]}, "valid: contact, coating, pore_body"),
     ({"saturations": [0.1, 1.5]}, r"\[0, 1\]"),
-    ({"size": [3, 3]}, "three numbers"),
+    ({"size": [3, 3]}, "md.size must be three positive finite numbers"),
     ({"compaction_stress": -1.0}, "MPa"),
     ({"wave": "x"}, "'p' or 's'"),
     ({"resolution": "fine"}, "finite number"),

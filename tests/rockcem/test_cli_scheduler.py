@@ -7,7 +7,9 @@ import time
 
 import pytest
 
-from rockcem.cli import SCHEDULER_CONNECT_TIMEOUT_S, _check_scheduler, main
+from rockcem._scheduler import SCHEDULER_CONNECT_TIMEOUT_S
+from rockcem._scheduler import check_scheduler as _check_scheduler
+from rockcem.cli import main
 
 SWEEP = """name = "sw"
 lithology = "shale"
@@ -94,3 +96,33 @@ def test_a_dask_scheduler_and_local_pass():
     _check_scheduler("local")
     with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as c:
         _check_scheduler(c.scheduler_address)
+
+
+def test_run_scene_from_python_refuses_a_dead_address_at_once(monkeypatch):
+    """Issue 24: run_scene(scheduler="tcp://...") from Python waited 30 s for dask's client."""
+    from rockcem import runner
+    from rockcem.scene import run_scene, scene_from_dict
+    import tomllib
+
+    def never(*args, **kwargs):
+        raise AssertionError("the scene ran before the scheduler was checked")
+
+    monkeypatch.setattr(runner, "run", never)
+    scene = scene_from_dict(tomllib.loads(SWEEP))
+    start = time.monotonic()
+    with pytest.raises(ValueError, match=r"^scheduler tcp://127\.0\.0\.1:\d+: no dask scheduler "
+                                         r"answers .*scheduler='local'"):
+        run_scene(scene, scheduler=f"tcp://127.0.0.1:{_free_port()}")
+    assert time.monotonic() - start < SCHEDULER_CONNECT_TIMEOUT_S
+    for bad in ("", 8786, ["local"]):
+        with pytest.raises(ValueError, match="expected 'local' or a dask scheduler address"):
+            run_scene(scene, scheduler=bad)
+
+
+def test_run_md_scene_refuses_a_dead_address_before_any_pack(tmp_path):
+    from md.experiment import md_scene_from_dict, run_md_scene
+
+    scene = md_scene_from_dict({"name": "m", "md": {}})
+    with pytest.raises(ValueError, match="no dask scheduler answers"):
+        run_md_scene(scene, workdir=tmp_path / "w", scheduler=f"127.0.0.1:{_free_port()}")
+    assert not (tmp_path / "w").exists()
