@@ -13,24 +13,29 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validation import (as_array, broadcast, check_modulus, check_positive, check_range,
-                          stack_phases)
 from .bounds import _harmonic
 from .constants import GPA_PER_MPA
 from .elastic import Moduli
+from .validation import (
+    as_array,
+    broadcast,
+    check_modulus,
+    check_range,
+    stack_phases,
+)
 
 __all__ = [
-    "hertz_mindlin",
-    "soft_sand",
-    "stiff_sand",
-    "cement_radius",
-    "cement_porosity",
-    "contact_cement",
-    "constant_cement",
-    "increasing_cement",
-    "patchy_cement",
     "MAX_COORDINATION_NUMBER",
     "MAX_PRESSURE_MPA",
+    "cement_porosity",
+    "cement_radius",
+    "constant_cement",
+    "contact_cement",
+    "hertz_mindlin",
+    "increasing_cement",
+    "patchy_cement",
+    "soft_sand",
+    "stiff_sand",
 ]
 
 
@@ -43,28 +48,19 @@ MAX_PRESSURE_MPA = 1000.0
 
 
 # ----------------------------------------------------------------------------- input checks
-def _coordination(n):
-    return check_range("n (coordination number)", as_array("n", n), 0.0,
-                       MAX_COORDINATION_NUMBER, low_open=True)
-
-
-def _mineral(name, K, G, *, shear_zero=False):
-    K = check_modulus(f"K{name}", as_array(f"K{name}", K))
-    G = check_modulus(f"G{name}", as_array(f"G{name}", G), allow_zero=shear_zero)
+def _poisson(name, K, G):
+    """Poisson ratio of a mineral whose moduli :func:`_shapes` has checked; it must lie in
+    (-1, 0.5)."""
     nu = (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
     check_range(f"Poisson ratio of (K{name}, G{name})", nu, -1.0, 0.5, low_open=True,
-                high_open=not shear_zero)
-    return K, G, nu
+                high_open=True)
+    return nu
 
 
-def _porosity(phi, phic, name_phic="phic"):
-    phic = check_range(name_phic, as_array(name_phic, phic), 0.0, 1.0, low_open=True,
-                       high_open=True)
-    phi = check_range("phi", as_array("phi", phi), 0.0, 1.0)
-    if np.any(np.broadcast_to(phi, np.broadcast_shapes(phi.shape, phic.shape))
-              > np.broadcast_to(phic, np.broadcast_shapes(phi.shape, phic.shape)) * (1 + 1e-12)):
-        raise ValueError(f"phi must lie in [0, {name_phic}] for this model")
-    return phi, phic
+def _not_above(name, value, limit_name, limit):
+    """Refuse ``value > limit`` (checked arrays; a relative 1e-12 of rounding allowed)."""
+    if np.any(value > limit * (1 + 1e-12)):
+        raise ValueError(f"{name} must lie in [0, {limit_name}] for this model")
 
 
 #: The range of every argument of the public functions below: (low, high, low_open,
@@ -81,23 +77,28 @@ _RANGES = {
 }
 
 
-def _shapes(**arrays):
+def _shapes(_labels=None, **arrays):
     """Check every argument against its own range (:data:`_RANGES`), then refuse, by name,
     shapes that do not broadcast together: all before any joint check (phi <= phic, the Poisson
     ratio of a mineral) or arithmetic, so that a bad argument is always the one named, and a
-    shape mismatch with the arguments' names rather than numpy's operands."""
+    shape mismatch with the arguments' names rather than numpy's operands. ``_labels`` maps an
+    argument to the name a message gives it (a scene key such as ``coordination_number``).
+
+    Returns the checked arrays (float, not broadcast) in the order given."""
+    labels = {"n": "n (coordination number)", **(_labels or {})}
     checked = {}
     for name, value in arrays.items():
-        arr = as_array(name, value)
+        label = labels.get(name, name)
+        arr = as_array(label, value)
         rule = _RANGES[name]
         if rule == "modulus":
-            check_modulus(name, arr)
+            check_modulus(label, arr)
         else:
             lo, hi, lo_open, hi_open = rule
-            label = "n (coordination number)" if name == "n" else name
             check_range(label, arr, lo, hi, low_open=lo_open, high_open=hi_open)
-        checked[name] = arr
+        checked[label.split(" ")[0]] = arr
     broadcast(**checked)
+    return tuple(checked.values())
 
 
 def _zeta(K, G):
@@ -172,13 +173,9 @@ def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     >>> round(float(m.K), 4), round(float(m.G), 4)
     (1.9063, 2.8028)
     """
-    _shapes(K0=K0, G0=G0, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
-    K0, G0, nu = _mineral("0", K0, G0)
-    phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
-    n = _coordination(n)
-    pressure = check_range("pressure", as_array("pressure", pressure), 0.0, MAX_PRESSURE_MPA)
-    f = check_range("f", as_array("f", f), 0.0, 1.0)
-    delta = check_range("delta", as_array("delta", delta), 0.0, MAX_PRESSURE_MPA)
+    K0, G0, phic, n, pressure, f, delta = _shapes(K0=K0, G0=G0, phic=phic, n=n,
+                                                  pressure=pressure, f=f, delta=delta)
+    nu = _poisson("0", K0, G0)
     p = (pressure + delta) * GPA_PER_MPA
     common = (n * (1.0 - phic) * G0) ** 2 * p / (np.pi**2 * (1.0 - nu) ** 2)
     K = np.cbrt(common / 18.0)
@@ -216,11 +213,10 @@ def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
+    K0, G0, phi, phic = _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f,
+                                delta=delta)[:4]
+    _not_above("phi", phi, "phic", phic)
     hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
-    phi, phic = _porosity(phi, phic)
-    K0 = as_array("K0", K0)
-    G0 = as_array("G0", G0)
     return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, hm.K, hm.G)
 
 
@@ -238,11 +234,10 @@ def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
 
     Parameters and returns as in :func:`soft_sand`; valid for :math:`0 \le \phi \le \phi_c`.
     """
-    _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
+    K0, G0, phi, phic = _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f,
+                                delta=delta)[:4]
+    _not_above("phi", phi, "phic", phic)
     hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
-    phi, phic = _porosity(phi, phic)
-    K0 = as_array("K0", K0)
-    G0 = as_array("G0", G0)
     return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, K0, G0)
 
 
@@ -292,10 +287,8 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     ndarray
         :math:`\alpha`, dimensionless, ``>= 0``.
     """
-    _shapes(phi=phi, phic=phic, n=n, thickness=thickness)
-    phi, phic = _porosity(phi, phic)
-    n = _coordination(n)
-    eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
+    phi, phic, n, eps = _shapes(phi=phi, phic=phic, n=n, thickness=thickness)
+    _not_above("phi", phi, "phic", phic)
     if scheme not in (1, 2):
         raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
     x = (phic - phi) / (1.0 - phic)
@@ -335,11 +328,7 @@ def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
         Porosity :math:`\phi`; a value below 0 means the cement radius needs more cement than
         the pore space holds (raises ``ValueError``).
     """
-    _shapes(alpha=alpha, phic=phic, n=n, thickness=thickness)
-    alpha = check_range("alpha", as_array("alpha", alpha), 0.0, 1.0)
-    phic = check_range("phic", as_array("phic", phic), 0.0, 1.0, low_open=True, high_open=True)
-    n = _coordination(n)
-    eps = check_positive("thickness", as_array("thickness", thickness), allow_zero=True)
+    alpha, phic, n, eps = _shapes(alpha=alpha, phic=phic, n=n, thickness=thickness)
     if scheme not in (1, 2):
         raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
     x = 1.5 * alpha**2 if scheme == 2 else 0.75 * n * alpha**2 * (0.25 * alpha**2 + eps)
@@ -465,9 +454,9 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     >>> round(float(m.K), 3), round(float(m.G), 3)
     (8.05, 11.058)
     """
-    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, thickness=thickness)
-    K0, G0, nu0 = _mineral("0", K0, G0)
-    Kc, Gc, nuc = _mineral("c", Kc, Gc)
+    K0, G0, Kc, Gc = _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n,
+                             thickness=thickness)[:4]
+    nu0, nuc = _poisson("0", K0, G0), _poisson("c", Kc, Gc)
     alpha = cement_radius(phi, phic, n, scheme, thickness)
     if np.any(alpha > 1.0):
         raise ValueError(f"phi lies too far below phic for contact cement: the cement radius "
@@ -547,12 +536,19 @@ def constant_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0)
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, phib=phib, thickness=thickness)
-    phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
-    _porosity(phib, phic)
-    phi, phib = _porosity(phi, phib, "phib")
+    K0, G0, phi, phic, phib = _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness)
     b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
-    return _hs_interpolate(b.K, b.G, as_array("K0", K0), as_array("G0", G0), phi / phib, b.K, b.G)
+    return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, b.K, b.G)
+
+
+def _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness):
+    """The checked K0, G0, phi, phic, phib of the constant- and increasing-cement models:
+    phi <= phib <= phic."""
+    K0, G0, _, _, phi, phic, _, phib, _ = _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi,
+                                                  phic=phic, n=n, phib=phib, thickness=thickness)
+    _not_above("phib", phib, "phic", phic)
+    _not_above("phi", phi, "phib", phib)
+    return K0, G0, phi, phic, phib
 
 
 def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0) -> Moduli:
@@ -571,13 +567,8 @@ def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.
 
     Parameters and returns as in :func:`constant_cement`; valid for :math:`0 \le \phi \le \phi_b`.
     """
-    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, phib=phib, thickness=thickness)
-    phib = check_range("phib", as_array("phib", phib), 0.0, 1.0, low_open=True, high_open=True)
-    _porosity(phib, phic)
-    phi, phib = _porosity(phi, phib, "phib")
+    K0, G0, phi, phic, phib = _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness)
     b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
-    K0 = as_array("K0", K0)
-    G0 = as_array("G0", G0)
     return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, K0, G0)
 
 
@@ -633,16 +624,12 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     from .bounds import hashin_shtrikman_upper, hill
     from .inclusions import self_consistent
 
-    _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, pressure=pressure,
-            cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
-            thickness=thickness, f=f, delta=delta)
-    phi, phic_arr = _porosity(phi, phic)
-    phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
-    if np.any(phip > phic_arr * (1 + 1e-12)):
-        raise ValueError("cement_fraction must lie in [0, phic]")
-    limit = check_range("contact_cement_limit", as_array("contact_cement_limit",
-                                                          contact_cement_limit), 0.0, 1.0,
-                        low_open=True)
+    K0, G0, Kc, Gc, phi, phic_arr, _, _, phip, limit = _shapes(
+        K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, pressure=pressure,
+        cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
+        thickness=thickness, f=f, delta=delta)[:10]
+    _not_above("phi", phi, "phic", phic_arr)
+    _not_above("cement_fraction", phip, "phic", phic_arr)
     bonded = np.minimum(phip, limit)
     cct = contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, thickness)
     hm = hertz_mindlin(K0, G0, phic_arr, n, pressure, f, delta)

@@ -25,13 +25,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .validation import (MAX_DENSITY, as_array, broadcast, broadcast_phases, check_fractions,
-                          check_positive, check_range, stack_phases, sum_phases)
+                          check_range, stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
-from .granular import (MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA, cement_radius,
-                       patchy_cement)
+from .granular import _shapes, cement_radius, patchy_cement
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
 
@@ -304,47 +303,33 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
         raise ValueError("grain and cement must be rockcem.materials.Mineral")
     fluid = _fluid(fluid)
     # Checked here under the names a scene gives them ([models.patchy_cement] keys), so that
-    # no message speaks of the building blocks' symbols (n, phic, phi).
-    phic = check_range("critical_porosity", as_array("critical_porosity", critical_porosity),
-                       0.0, 1.0, low_open=True, high_open=True)
-    phi = check_range("porosity", as_array("porosity", porosity), 0.0, 1.0, high_open=True)
-    phip = check_range("cement_fraction", as_array("cement_fraction", cement_fraction), 0.0, 1.0)
-    knobs = {
-        "coordination_number": check_range(
-            "coordination_number", as_array("coordination_number", coordination_number), 0.0,
-            MAX_COORDINATION_NUMBER, low_open=True),
-        "pressure": check_range("pressure", as_array("pressure", pressure), 0.0,
-                                MAX_PRESSURE_MPA),
-        "contact_cement_limit": check_range(
-            "contact_cement_limit", as_array("contact_cement_limit", contact_cement_limit), 0.0,
-            1.0, low_open=True),
-        "delta": check_range("delta", as_array("delta", delta), 0.0, MAX_PRESSURE_MPA),
-        "thickness": check_positive("thickness", as_array("thickness", thickness),
-                                    allow_zero=True),
-        "f": check_range("f", as_array("f", f), 0.0, 1.0),
-    }
+    # no message speaks of the building blocks' symbols (n, phic, phi); the ranges are the
+    # building blocks' own (rockcem.granular._RANGES).
+    phi, phic, n, pressure, phip, limit, eps, f, delta = _shapes(
+        _labels={"phi": "porosity", "phic": "critical_porosity", "n": "coordination_number"},
+        phi=porosity, phic=critical_porosity, n=coordination_number, pressure=pressure,
+        cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
+        thickness=thickness, f=f, delta=delta)
     if scheme not in (1, 2) or isinstance(scheme, bool):
         raise ValueError(f"scheme must be 1 (cement at contacts) or 2 (coating); got {scheme!r}")
-    phi, phip, phic, *_ = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic,
-                                    **knobs)
+    phi, phip, phic = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
     if np.any(phi + phip > 1.0 + 1e-12):
         raise ValueError("porosity + cement_fraction must not exceed 1")
     for name, value in (("porosity", phi), ("cement_fraction", phip),
-                        ("contact_cement_limit", knobs["contact_cement_limit"])):
+                        ("contact_cement_limit", limit)):
         if np.any(value > phic * (1.0 + 1e-12)):
             raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
                              f"{name} in [0, critical_porosity])")
-    bonded = np.minimum(phip, knobs["contact_cement_limit"])
-    alpha = cement_radius(phic - bonded, phic, knobs["coordination_number"], scheme,
-                          knobs["thickness"])
+    # The contact cement's radius, checked here to name the scene's keys; patchy_cement's
+    # contact_cement computes it again (a few vector operations).
+    alpha = cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
     if np.any(alpha > 1.0):
         raise ValueError(f"the cement at the grain contacts (cement_fraction up to "
                          f"contact_cement_limit) is more than the contact model holds at this "
                          f"coordination_number and critical_porosity: its radius a/R reaches "
                          f"{float(np.max(alpha)):.3g} > 1")
-    dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, critical_porosity,
-                        coordination_number, pressure, phip, contact_cement_limit, scheme,
-                        thickness, f, delta)
+    dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, phic, n, pressure, phip,
+                        limit, scheme, eps, f, delta)
     beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
     beta = stack_phases(1.0 - beta_c, beta_c)
     K = np.array([grain.K, cement.K])
