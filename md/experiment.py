@@ -145,14 +145,14 @@ def md_scene_from_dict(raw: dict) -> dict:
     if not 0 < p["fall_stiffness_factor"] <= 1:
         raise _bad("fall_stiffness_factor", f"must lie in (0, 1]; got "
                                             f"{p['fall_stiffness_factor']}")
-    from rockcem.scene import _check_scene_name
+    from rockcem._atomic import check_scene_name
 
     head = {"name": "md", "description": "", "output": None, **{k: raw[k] for k in raw
                                                                  if k != "md"}}
     for key, value in head.items():
         if value is not None and not isinstance(value, str):
             raise ValueError(f"scene key {key} must be a string; got {value!r}")
-    _check_scene_name(head["name"])
+    check_scene_name(head["name"])
     if head["output"] is not None and not head["output"].strip():
         raise ValueError("scene key output must name a file (leave it out for <name>.nc); "
                          "got ''")

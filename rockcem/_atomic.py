@@ -11,7 +11,7 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["atomic_write", "output_path"]
+__all__ = ["atomic_write", "check_scene_name", "output_path"]
 
 #: What a file that is not a regular file is, by its ``stat`` type.
 _KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
@@ -166,3 +166,16 @@ def _hold_signals(caught: list, tmp: list) -> dict:
             continue
         previous[sig] = signal.signal(sig, hold)
     return previous
+
+
+def check_scene_name(name) -> str:
+    """Check a scene's ``name``: a plain file name, as the default output is ``<name>.nc``.
+
+    Raises ``ValueError`` naming the key for an empty name, one starting with ``.`` (hidden,
+    or ``..``), or one with a path separator (``/`` or ``\\``) or a NUL; returns ``name``.
+    """
+    if not isinstance(name, str) or not name.strip() or name.startswith(".") \
+            or any(c in name for c in "/\\\0"):
+        raise ValueError(f"scene key name must be a plain file name (not empty, no '/' or "
+                         f"'\\', not starting with '.'); got {name!r}")
+    return name

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._atomic import check_scene_name
 from ._data import data_path
 from ._toml import toml_value
 
@@ -253,19 +254,6 @@ def _check_value(where, key, value, kind):
     return value
 
 
-def _check_scene_name(name) -> str:
-    """Check a scene's ``name``: a plain file name, as the default output is ``<name>.nc``.
-
-    Raises ``ValueError`` naming the key for an empty name, one starting with ``.`` (hidden,
-    or ``..``), or one with a path separator (``/`` or ``\\``) or a NUL; returns ``name``.
-    """
-    if not isinstance(name, str) or not name.strip() or name.startswith(".") \
-            or any(c in name for c in "/\\\0"):
-        raise ValueError(f"scene key name must be a plain file name (not empty, no '/' or "
-                         f"'\\', not starting with '.'); got {name!r}")
-    return name
-
-
 def _section(where, given, schema):
     if not isinstance(given, dict):
         raise ValueError(f"scene section [{where}] must be a table")
@@ -303,7 +291,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
             raise ValueError(f"unknown scene key {k!r}"
                              f"{_suggest(k, set(SCHEMA['scene']) | _TOP_SECTIONS)}")
     head = _section("scene", top, SCHEMA["scene"])
-    _check_scene_name(head["name"])
+    check_scene_name(head["name"])
     if head["output"] is not None and not head["output"].strip():
         raise ValueError("scene key output must name a file (leave it out for <name>.nc); "
                          f"got {head['output']!r}")
