@@ -18,6 +18,8 @@ __all__ = [
     "STANDARD_GRAVITY",
     "ZERO_CELSIUS_IN_KELVIN",
     "LN10",
+    "STANDARD_ATMOSPHERE",
+    "KM_PER_M",
 ]
 
 #: Gigapascals per megapascal: pressures (MPa) meet moduli (GPa) in Hertz–Mindlin through this.
@@ -44,3 +46,10 @@ ZERO_CELSIUS_IN_KELVIN = 273.15
 
 #: Natural logarithm of 10 (Walderhaug kinetics are written in powers of ten).
 LN10 = math.log(10.0)
+
+#: One standard atmosphere, MPa (exact, 101 325 Pa): add it to a gauge pore pressure (the burial
+#: path's, 0 at the sediment surface) for the absolute pressure of the pore-fluid equations.
+STANDARD_ATMOSPHERE = 0.101325
+
+#: Kilometres per metre: velocities in m/s (Batzle & Wang, CoolProp) to the package's km/s.
+KM_PER_M = 1.0e-3

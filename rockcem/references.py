@@ -89,6 +89,37 @@ REFERENCES: dict[str, str] = {
         "Carroll, R. J., and Ruppert, D., 1988. Transformation and Weighting in Regression. "
         "Chapman and Hall, New York."
     ),
+    "BatzleWang1992": (
+        "Batzle, M., and Wang, Z., 1992. Seismic properties of pore fluids. Geophysics 57, "
+        "1396-1408."
+    ),
+    "KleisSanchez1990": (
+        "Kleis, S. J., and Sanchez, L. A., 1990. Dependence of speed of sound on salinity and "
+        "temperature in concentrated NaCl solutions. Solar Energy 45, 201-206."
+    ),
+    "SpanWagner1996": (
+        "Span, R., and Wagner, W., 1996. A new equation of state for carbon dioxide covering the "
+        "fluid region from the triple-point temperature to 1100 K at pressures up to 800 MPa. "
+        "J. Phys. Chem. Ref. Data 25, 1509-1596."
+    ),
+    "SetzmannWagner1991": (
+        "Setzmann, U., and Wagner, W., 1991. A new equation of state and tables of thermodynamic "
+        "properties for methane covering the range from the melting line to 625 K at pressures "
+        "up to 1000 MPa. J. Phys. Chem. Ref. Data 20, 1061-1155."
+    ),
+    "Wood1955": ("Wood, A. B., 1955. A Textbook of Sound. Bell, London."),
+    "Brie1995": (
+        "Brie, A., Pampuri, F., Marsala, A. F., and Meazza, O., 1995. Shear sonic interpretation "
+        "in gas-bearing sands. SPE Annual Technical Conference, SPE 30595."
+    ),
+    "Standing1947": (
+        "Standing, M. B., 1947. A pressure-volume-temperature correlation for mixtures of "
+        "California oils and gases. Drilling and Production Practice, API, 275-287."
+    ),
+    "IAPWS1997": (
+        "Wagner, W., et al., 2000. The IAPWS industrial formulation 1997 for the thermodynamic "
+        "properties of water and steam. J. Eng. Gas Turbines Power 122, 150-182."
+    ),
 }
 
 

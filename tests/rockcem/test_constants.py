@@ -52,6 +52,13 @@ def test_zero_celsius_and_ln10():
 
 def test_every_exported_constant_is_quoted_here():
     quoted = {"GPA_PER_MPA", "SECONDS_PER_YEAR", "SECONDS_PER_MYR", "GAS_CONSTANT_CAL",
-              "GAS_CONSTANT_J", "STANDARD_GRAVITY", "ZERO_CELSIUS_IN_KELVIN", "LN10"}
+              "GAS_CONSTANT_J", "STANDARD_GRAVITY", "ZERO_CELSIUS_IN_KELVIN", "LN10",
+              "STANDARD_ATMOSPHERE", "KM_PER_M"}
     assert set(c.__all__) == quoted
     assert all(isinstance(getattr(c, name), float) for name in quoted)
+
+
+def test_standard_atmosphere_and_km_per_m():
+    # The standard atmosphere is defined as 101 325 Pa exactly (CGPM 1954); 1 km = 1000 m.
+    assert c.STANDARD_ATMOSPHERE * 1e6 == pytest.approx(101_325.0, rel=1e-15)
+    assert c.KM_PER_M * 1000.0 == 1.0
