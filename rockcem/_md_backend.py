@@ -173,14 +173,16 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                                        np.stack([1.0 - beta_c, beta_c], axis=-1))
     # Saturated bulk density of the core window (eq. 24 of Carcione et al. 2022) with the
     # porosity Gassmann is given (the engine's sample density also counts the end layers).
-    rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * fluid.rho
+    # The fluid at the MD depths (a number, or one value per profile depth).
+    K_fluid, rho_fluid = (np.asarray(v)[idx] if np.ndim(v) else v for v in (fluid.K, fluid.rho))
+    rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * rho_fluid
 
     def velocities(M, G):
         # The pack is transversely isotropic (compacted along z): M is its vertical C33 and G
         # its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack anisotropic
         # Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
         K_dry = M - 4.0 / 3.0 * G
-        K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
+        K_sat = gassmann(K_dry, mineral.K, K_fluid, phi)
         return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))
 
     count = len(runs)

@@ -87,20 +87,33 @@ class Mineral:
                    name, source)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Fluid:
-    """A pore fluid: bulk modulus ``K`` (GPa, ``>= 0``) and density ``rho`` (g/cm³, ``>= 0``)."""
+    """A pore fluid: bulk modulus ``K`` (GPa, ``>= 0``) and density ``rho`` (g/cm³, ``>= 0``).
 
-    K: float
-    rho: float
+    ``K`` and ``rho`` are numbers (a catalogue fluid) or arrays over depth (a fluid that follows
+    the burial path's temperature and pore pressure, :mod:`rockcem.pore_fluids`); the models
+    broadcast them against their other inputs.
+    """
+
+    K: float | np.ndarray
+    rho: float | np.ndarray
     name: str = ""
     source: str = ""
 
     def __post_init__(self):
-        if not (np.isfinite(self.K) and self.K >= 0.0):
-            raise ValueError(f"Fluid {self.name!r}: K must be >= 0 GPa; got {self.K}")
-        if not (np.isfinite(self.rho) and self.rho >= 0.0):
-            raise ValueError(f"Fluid {self.name!r}: rho must be >= 0 g/cm3; got {self.rho}")
+        for key, unit in (("K", "GPa"), ("rho", "g/cm3")):
+            value = getattr(self, key)
+            try:
+                arr = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                raise ValueError(f"Fluid {self.name!r}: {key} must be a number or an array of "
+                                 f"numbers >= 0 {unit}; got {value!r}") from None
+            if not np.all(np.isfinite(arr) & (arr >= 0.0)):
+                worst = arr[~(np.isfinite(arr) & (arr >= 0.0))].ravel()[0]
+                raise ValueError(f"Fluid {self.name!r}: {key} must be >= 0 {unit} (finite); "
+                                 f"got {worst}")
+            object.__setattr__(self, key, float(arr) if arr.ndim == 0 else arr)
 
 
 def _mineral_from_entry(name: str, e: dict) -> Mineral:

@@ -220,12 +220,18 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     def solve(K_pore, G_pore):
         # The inputs are checked (minerals, fluid, fractions built from checked solid fractions
         # and porosity), so the solver's own checks are skipped; the phase moduli go in as one
-        # row (n + 1,) and are broadcast against the fractions there.
-        return _self_consistent(np.append(K, K_pore), np.append(G, G_pore), frac, aspect, tol,
-                                engine=engine)
+        # row (n + 1,), or one per depth for a fluid that varies with depth, and are broadcast
+        # against the fractions there.
+        if np.ndim(K_pore) == 0:
+            return _self_consistent(np.append(K, K_pore), np.append(G, G_pore), frac, aspect,
+                                    tol, engine=engine)
+        K_pore = broadcast(porosity=phi, fluid_K=K_pore)[1]
+        rows = np.broadcast_to(K, K_pore.shape + K.shape)
+        return _self_consistent(np.concatenate([rows, K_pore[..., None]], axis=-1),
+                                np.append(G, G_pore), frac, aspect, tol, engine=engine)
 
     sat = solve(fluid.K, 0.0)
-    dry = solve(0.0, 0.0) if fluid.K > 0.0 else sat
+    dry = solve(0.0, 0.0) if np.any(np.asarray(fluid.K) > 0.0) else sat
     return _finish(dry.K, dry.G, sat.K, sat.G, bulk_density(rho, beta, phi, fluid.rho))
 
 

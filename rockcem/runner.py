@@ -133,6 +133,26 @@ class _Pipeline:
         return [materials.mineral(m[n]) for n in names], materials.fluid(m["fluid"])
 
     @cached_property
+    def pore_fluid(self):
+        """The pore fluid per present-day depth (:mod:`rockcem._scene_fluid`); the catalogue
+        fluid itself, as one number, where ``[fluid]`` keeps it and adds no hydrocarbon (nothing
+        of the path is computed for it then)."""
+        from ._scene_fluid import SceneFluid, scene_fluid
+
+        f = self.sec["fluid"]
+        if f["model"] == "constant" and f["hydrocarbon"] == "none":
+            fluid = self.materials[1]
+            shape = np.shape(self.now(self.path.depth))
+            outputs = {"fluid_density": np.full(shape, fluid.rho),
+                       "fluid_bulk_modulus": np.full(shape, fluid.K),
+                       "fluid_velocity": np.full(shape, np.sqrt(fluid.K / fluid.rho)
+                                                 if fluid.rho > 0 else 0.0),
+                       "hydrocarbon_saturation": np.zeros(shape)}
+            return SceneFluid(fluid, None, outputs["hydrocarbon_saturation"], outputs, [])
+        return scene_fluid(f, self.sec["materials"]["fluid"], self.now(self.path.depth),
+                           self.now(self.path.temperature), self.pressures.pore)
+
+    @cached_property
     def porosity(self):
         return self.sandstone.porosity if self.scene.lithology == "sandstone" \
             else self.shale_porosity
@@ -151,18 +171,30 @@ class _Pipeline:
     def density(self):
         from .models import bulk_density
 
-        minerals, fluid = self.materials
+        minerals = self.materials[0]
         return bulk_density([m.rho for m in minerals], self.solid_fractions, self.porosity,
-                            fluid.rho)
+                            self.pore_fluid.outputs["fluid_density"])
 
     @cached_property
     def md(self):
-        """The MD members: ``(models, per-depth diagnostics, per-model diagnostics)``."""
+        """The MD members: ``(models, per-depth diagnostics, per-model diagnostics)``; with
+        patches of brine and hydrocarbon, each member's rock is the patchy combination of its
+        two saturated rocks (the MD runs themselves are shared: the fluid enters by Gassmann)."""
+        from ._scene_fluid import patchy_rock
+
+        fluid = self.pore_fluid
+        if fluid.patches is None:
+            return self._md(fluid.fluid)
+        (brine, per_depth, per_model), (other, _, _) = (self._md(f) for f in fluid.patches)
+        return ({k: patchy_rock(brine[k], other[k], fluid.saturation) for k in brine},
+                per_depth, per_model)
+
+    def _md(self, fluid):
         from pathlib import Path
 
         from ._md_backend import md_model
 
-        minerals, fluid = self.materials
+        minerals = self.materials[0]
         out = Path(self.scene.output)
         with _section("models.md"):
             return md_model(self.now(self.path.depth), self.pressures.effective,
@@ -173,9 +205,17 @@ class _Pipeline:
                             scheduler=self.scheduler, jobs=self.jobs, progress=self.progress)
 
     def model(self, label):
+        fluid = self.pore_fluid
+        if fluid.patches is None:
+            return self._model(label, fluid.fluid)
+        from ._scene_fluid import patchy_rock
+
+        return patchy_rock(*(self._model(label, f) for f in fluid.patches), fluid.saturation)
+
+    def _model(self, label, fluid):
         from . import models
 
-        minerals, fluid = self.materials
+        minerals = self.materials[0]
         knobs = {k: v for k, v in self.sec[f"models.{label}"].items() if k != "calibration"}
         with _section(f"models.{label}"):
             if label == "patchy_cement":
@@ -208,6 +248,8 @@ class _Pipeline:
             return self.smectite
         if name == "illite_fraction":
             return 1.0 - self.smectite
+        if name in self.pore_fluid.outputs:
+            return self.pore_fluid.outputs[name]
         raise ValueError(f"no state variable {name!r}")  # guarded by scene validation
 
 
@@ -243,8 +285,23 @@ def _global_attrs(scene):
            if scene.lithology == "sandstone" else
            {"smectite": scene.sections["materials"]["smectite"],
             "illite": scene.sections["materials"]["illite"]}),
-        "fluid": scene.sections["materials"]["fluid"],
+        "fluid": _fluid_attr(scene.sections),
     }
+
+
+def _fluid_attr(sections):
+    """The pore fluid in words: the catalogue fluid, or Batzle & Wang brine, and a
+    hydrocarbon with its saturation, interval and mixing law."""
+    f = sections["fluid"]
+    text = (f"Batzle & Wang brine, salinity {f['salinity'] or 0.0:g}"
+            if f["model"] == "batzle_wang" else sections["materials"]["fluid"])
+    if f["hydrocarbon"] != "none":
+        where = (f"{f['top'] if f['top'] is not None else 0:g}-"
+                 f"{f['base']:g} m" if f["base"] is not None else
+                 f"below {f['top']:g} m" if f["top"] is not None else "every depth")
+        text += (f"; {f['hydrocarbon']} at saturation {f['saturation']:g} ({where}), "
+                 f"{f['mixing']} mixing")
+    return text
 
 
 def _calibration_attrs(scene):
@@ -298,6 +355,8 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
                      for m in labels]))
     attrs = _global_attrs(scene)
     warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
+    if "pore_fluid" in pipe.__dict__:
+        warnings += pipe.pore_fluid.warnings
     if "md" in pipe.__dict__:
         from ._md_backend import md_warnings
 

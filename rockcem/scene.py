@@ -45,7 +45,7 @@ from ._toml import toml_value
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
            "run_scene", "write_dataset", "MAX_SWEEP_MEMBERS", "sweep_size", "MODEL_OUTPUTS",
-           "STATE_OUTPUTS", "CALIBRATED_MODELS"]
+           "STATE_OUTPUTS", "FLUID_OUTPUTS", "CALIBRATED_MODELS"]
 
 _REQUIRED = object()
 
@@ -111,6 +111,34 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "illite": ("illite", "string", "", "shale illite mineral"),
         "fluid": ("water", "string", "", "pore fluid"),
     },
+    "fluid": {
+        "model": ("constant", "string", "",
+                  "'constant': the catalogue fluid materials.fluid at every depth (the sources' "
+                  "water); 'batzle_wang': brine from each depth's temperature and pore pressure "
+                  "(Batzle & Wang 1992)"),
+        "salinity": (None, "number", "1", "batzle_wang: NaCl mass fraction of the brine, in "
+                     "[0, 0.35) (default 0)"),
+        "hydrocarbon": ("none", "string", "",
+                        "'none', or the hydrocarbon sharing the pores with the brine: 'gas' "
+                        "(Batzle & Wang), 'oil' (Batzle & Wang), 'co2' (Span-Wagner) or "
+                        "'methane' (Setzmann-Wagner; co2 and methane need the fluids extra)"),
+        "saturation": (None, "number", "1", "hydrocarbon saturation of the pore space in the "
+                       "interval, in [0, 1] (required with a hydrocarbon)"),
+        "mixing": ("wood", "string", "",
+                   "'wood': uniform, Wood's fluid in each model; 'brie': Brie's fluid of "
+                   "exponent brie_exponent; 'patchy': patches of brine and of hydrocarbon, each "
+                   "model run with each, P-wave moduli averaged (White's patchy limit)"),
+        "brie_exponent": (None, "number", "", "mixing = 'brie': exponent e, in [1, 40] "
+                          "(default 3)"),
+        "top": (None, "number", "m", "top of the hydrocarbon interval (default: the surface)"),
+        "base": (None, "number", "m", "base of the hydrocarbon interval (default: the deepest "
+                 "depth)"),
+        "gas_gravity": (None, "number", "1", "gas (and live oil's dissolved gas): gravity "
+                        "relative to air, in [0.5, 2] (default 0.6)"),
+        "oil_api": (None, "number", "degAPI", "oil: API gravity, in [0, 150] (default 30)"),
+        "gas_oil_ratio": (None, "number", "L/L", "oil: dissolved gas, litres of gas per litre of "
+                          "oil, >= 0 (default 0: dead oil)"),
+    },
     "models.hs_gassmann": {
         "A": (3.0, "number", "", "Krief exponent"),
     },
@@ -169,10 +197,14 @@ SCHEMA: dict[str, dict[str, tuple]] = {
 #: Model sections that take a calibration file.
 CALIBRATED_MODELS = ("patchy_cement",)
 
-_TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "models", "sweep"}
+_TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "fluid", "models",
+                 "sweep"}
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
 #: Variables that depend on the petro-elastic model (dimension ``model``).
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
+#: Variables of the pore fluid (a scene with a [fluid] section writes them by default).
+FLUID_OUTPUTS = ("fluid_density", "fluid_bulk_modulus", "fluid_velocity",
+                 "hydrocarbon_saturation")
 #: Variables of the rock state, per lithology.
 STATE_OUTPUTS = {
     "sandstone": ("burial_time", "temperature", "pressure_confining", "pressure_pore",
@@ -223,8 +255,10 @@ class Scene:
             table[key] = value
         if not keep_sweep:
             raw.pop("sweep", None)
+            raw["outputs"] = list(self.outputs)      # every member writes the same variables
         text = None if params or not keep_sweep else self.text
-        return scene_from_dict(raw, text=text, base_dir=self.base_dir)
+        return scene_from_dict(raw, text=text, base_dir=self.base_dir,
+                               _sweep_member=not keep_sweep)
 
     def _raw(self) -> dict:
         return tomllib.loads(self.text)
@@ -271,7 +305,8 @@ def _section(where, given, schema):
     return out
 
 
-def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Scene:
+def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
+                    _sweep_member=False) -> Scene:
     """Validate a scene given as a dict (the parsed TOML) and fill in the defaults.
 
     ``base_dir`` is the folder relative calibration paths are looked up in first (that of the
@@ -299,7 +334,7 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
     if lithology not in ("sandstone", "shale"):
         raise ValueError(f"scene key lithology must be 'sandstone' or 'shale'; got {lithology!r}")
     sections = {name: _section(name, raw.get(name, {}), SCHEMA[name])
-                for name in ("path", "pressure", "materials")}
+                for name in ("path", "pressure", "materials", "fluid")}
     sections[lithology] = _section(lithology, raw.get(lithology, {}), SCHEMA[lithology])
     other = "shale" if lithology == "sandstone" else "sandstone"
     if other in raw:
@@ -325,10 +360,14 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
         sections[f"models.{label}"] = _section(f"models.{label}", given,
                                                SCHEMA[f"models.{label}"])
     _check_path_kind(raw.get("path", {}), sections["path"], base_dir)
+    sweep = _validate_sweep(raw.get("sweep", {}), sections)
+    _check_fluid(raw.get("fluid", {}), sections["fluid"], sweep, _sweep_member)
     valid_outputs = STATE_OUTPUTS[lithology] + (MODEL_OUTPUTS if models else ())
+    fluid_outputs, fluid_defaults = _fluid_outputs(sections["fluid"], sweep)
     outputs = head["outputs"]
     if outputs is None:
-        outputs = list(valid_outputs)
+        outputs = list(valid_outputs) + (list(fluid_defaults) if "fluid" in raw else [])
+    valid_outputs += fluid_outputs
     # "time" was the name of burial_time before it was renamed (a variable called "time" reads as
     # a CF time coordinate); scene files that still list it keep working.
     outputs = ["burial_time" if name == "time" else name for name in outputs]
@@ -339,8 +378,10 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None) -> Sce
         if name not in valid_outputs:
             hint = (" (model outputs need at least one model in [models])"
                     if name in MODEL_OUTPUTS else _suggest(name, valid_outputs))
+            if name in FLUID_OUTPUTS:
+                hint = (" (mixing = 'patchy' has no single pore fluid: each patch holds its "
+                        "own)")
             raise ValueError(f"scene output {name!r} is not available for this scene{hint}")
-    sweep = _validate_sweep(raw.get("sweep", {}), sections)
     rates = [k for k in ("sedimentation_rate", "heating_rate")
              if k in raw.get("path", {}) or f"path.{k}" in sweep]
     if len(rates) == 2:
@@ -396,6 +437,76 @@ def _apply_calibration(label, given, base_dir):
         raise ValueError(f"scene key models.{label}.{twice[0]} is also set by calibration "
                          f"{cal['name']!r}; remove one of them")
     return {**given, **cal["parameters"]}, cal
+
+
+#: The pore-fluid choices of [fluid]: models, hydrocarbons and mixing laws.
+FLUID_MODELS = ("constant", "batzle_wang")
+HYDROCARBONS = ("none", "gas", "oil", "co2", "methane")
+MIXING_LAWS = ("wood", "brie", "patchy")
+#: [fluid] keys and the hydrocarbons (or the model) they apply to.
+_FLUID_KEY_USE = {"salinity": ("model", "batzle_wang"),
+                  "saturation": ("hydrocarbon", HYDROCARBONS[1:]),
+                  "mixing": ("hydrocarbon", HYDROCARBONS[1:]),
+                  "brie_exponent": ("mixing", "brie"),
+                  "top": ("hydrocarbon", HYDROCARBONS[1:]),
+                  "base": ("hydrocarbon", HYDROCARBONS[1:]),
+                  "gas_gravity": ("hydrocarbon", ("gas", "oil")),
+                  "oil_api": ("hydrocarbon", ("oil",)),
+                  "gas_oil_ratio": ("hydrocarbon", ("oil",))}
+
+
+def _fluid_outputs(fluid, sweep):
+    """The fluid variables a scene can write, and those it writes by default (with a [fluid]
+    section): the fluid's density and the hydrocarbon saturation always (0 without one); its
+    modulus and sound speed unless patches hold different fluids (mixing = 'patchy' with a
+    hydrocarbon, in any sweep member); the saturation by default where a member has a
+    hydrocarbon."""
+    mixings = sweep.get("fluid.mixing", [fluid["mixing"]])
+    carbons = sweep.get("fluid.hydrocarbon", [fluid["hydrocarbon"]])
+    patches = "patchy" in mixings and any(h != "none" for h in carbons)
+    valid = ("fluid_density",) + (() if patches else ("fluid_bulk_modulus", "fluid_velocity")) \
+        + ("hydrocarbon_saturation",)
+    default = valid if any(h != "none" for h in carbons) else valid[:-1]
+    return valid, default
+
+
+def _check_fluid(given, fluid, sweep, sweep_member):
+    """[fluid]: the names are known, the numbers in their ranges, and no key is given that the
+    chosen fluid does not use (unless the key that selects it is swept over values that do:
+    ``"fluid.hydrocarbon" = ["none", "gas"]`` with a saturation)."""
+    for key, valid in (("model", FLUID_MODELS), ("hydrocarbon", HYDROCARBONS),
+                       ("mixing", MIXING_LAWS)):
+        for value in sweep.get(f"fluid.{key}", [fluid[key]]):
+            if value not in valid:
+                raise ValueError(f"scene key fluid.{key} must be one of {', '.join(valid)}; "
+                                 f"got {value!r}{_suggest(str(value), valid)}")
+    if not sweep_member:
+        for key, (selector, uses) in _FLUID_KEY_USE.items():
+            if key not in given and f"fluid.{key}" not in sweep:
+                continue
+            choices = sweep.get(f"fluid.{selector}", [fluid[selector]])
+            if not any(c == uses or c in uses for c in choices):
+                uses = (uses,) if isinstance(uses, str) else uses
+                raise ValueError(f"scene key fluid.{key} does not apply to fluid.{selector} = "
+                                 f"{fluid[selector]!r} (it applies to {selector} "
+                                 f"{' or '.join(map(repr, uses))})")
+    if fluid["hydrocarbon"] != "none" and fluid["saturation"] is None:
+        raise ValueError(f"scene key fluid.saturation is required with hydrocarbon = "
+                         f"{fluid['hydrocarbon']!r} (the hydrocarbon's share of the pore space "
+                         "in the interval, in [0, 1])")
+    ranges = {"salinity": (0.0, 0.35, "[0, 0.35)"), "saturation": (0.0, 1.0, "[0, 1]"),
+              "brie_exponent": (1.0, 40.0, "[1, 40]"), "gas_gravity": (0.5, 2.0, "[0.5, 2]"),
+              "oil_api": (0.0, 150.0, "[0, 150]"), "gas_oil_ratio": (0.0, 1e4, "[0, 1e4]"),
+              "top": (0.0, np.inf, ">= 0 m"), "base": (0.0, np.inf, ">= 0 m")}
+    for key, (lo, hi, text) in ranges.items():
+        for value in sweep.get(f"fluid.{key}", [fluid[key]]):
+            if value is not None and not (lo <= value <= hi and not (key == "salinity"
+                                                                      and value >= hi)):
+                raise ValueError(f"scene key fluid.{key} must lie in {text}; got {value:g}")
+    if fluid["top"] is not None and fluid["base"] is not None \
+            and not fluid["top"] < fluid["base"]:
+        raise ValueError(f"scene keys fluid.top ({fluid['top']:g} m) and fluid.base "
+                         f"({fluid['base']:g} m) must make an interval: top < base")
 
 
 def _check_path_kind(given, path, base_dir):

@@ -338,3 +338,35 @@ def test_fitting_the_md_member_is_refused(result):
                       coords={"depth": np.linspace(1000.0, 3000.0, 5)})
     with pytest.raises(ValueError, match="MD backend"):
         fit_scene(tiny(path), well, {"path.gradient": (30.0, 20.0, 40.0)}, model="md")
+
+
+def test_md_member_takes_the_depths_fluid(result):
+    """Issue 20: the MD member is saturated with the scene's fluid at each MD depth (Batzle-Wang
+    brine here; the frame is the same MD run, read back from its stage files)."""
+    from rockcem import pore_fluids as pf
+    from rockcem.bounds import hashin_shtrikman_average
+    from rockcem.constants import STANDARD_ATMOSPHERE
+    from rockcem.fluids import gassmann
+    from rockcem.materials import mineral
+
+    ds, path = result
+    scene = tiny(path)
+    brine = run_scene(scene_from_dict({
+        "name": "tiny_md", "lithology": "sandstone",
+        "path": {"max_depth": 4000.0, "depth_step": 100.0},
+        "sandstone": {"start_temperature": 70.0},
+        "fluid": {"model": "batzle_wang", "salinity": 0.1},
+        "models": {"hs_gassmann": {}, "md": {k: v for k, v in scene.sections["models.md"].items()
+                                             if v is not None}}}))
+    ran = np.isfinite(ds.vp.sel(model="md").values)
+    w, b = ds.sel(model="md").isel(depth=ran), brine.sel(model="md").isel(depth=ran)
+    np.testing.assert_allclose(b.K_dry, w.K_dry, rtol=1e-12)
+    phi, phi_pack = b.md_porosity.values, b.md_pack_porosity.values
+    beta_c = (phi_pack - phi) / (1.0 - phi)
+    q, c = mineral("quartz"), mineral("quartz_cement")
+    K_min = hashin_shtrikman_average([q.K, c.K], [q.G, c.G],
+                                     np.stack([1 - beta_c, beta_c], axis=-1)).K
+    fluid = pf.brine(b.temperature.values, b.pressure_pore.values + STANDARD_ATMOSPHERE, 0.1)
+    np.testing.assert_allclose(b.K_sat, gassmann(b.K_dry.values, K_min, fluid.K, phi),
+                               rtol=1e-10)
+    assert np.all(b.K_sat.values != w.K_sat.values)

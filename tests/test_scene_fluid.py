@@ -1,0 +1,189 @@
+"""Issue 20: a scene's pore fluid follows the burial path ([fluid]): Batzle-Wang brine from each
+depth's temperature and pore pressure, a hydrocarbon over an interval, mixed uniformly (Wood),
+by Brie's law or in patches, and every model saturated with it."""
+
+import numpy as np
+import pytest
+
+from rockcem import pore_fluids as pf
+from rockcem.constants import STANDARD_ATMOSPHERE
+from rockcem.fluids import gassmann
+from rockcem.scene import run_scene, scene_from_dict
+
+MODELS = {"hs_gassmann": {}, "self_consistent": {"aspect_ratio": 0.108},
+          "generalized_gassmann": {}, "patchy_cement": {}}
+BASE = {"name": "f", "lithology": "sandstone",
+        "path": {"max_depth": 4000.0, "depth_step": 250.0}, "models": MODELS}
+GAS = {"model": "batzle_wang", "salinity": 0.05, "hydrocarbon": "gas", "saturation": 0.8,
+       "top": 2000.0, "base": 3000.0}
+
+
+def run(fluid=None, **extra):
+    raw = {**BASE, **extra}
+    if fluid is not None:
+        raw["fluid"] = fluid
+    return run_scene(scene_from_dict(raw))
+
+
+@pytest.fixture(scope="module")
+def water():
+    return run()
+
+
+@pytest.fixture(scope="module")
+def brine():
+    return run({"model": "batzle_wang", "salinity": 0.05})
+
+
+def test_constant_fluid_is_the_sources_water(water):
+    ds = run({"model": "constant"})
+    for name in ("vp", "vs", "density", "K_sat"):
+        np.testing.assert_array_equal(ds[name].values, water[name].values)
+    np.testing.assert_array_equal(ds.fluid_bulk_modulus.values, 2.2)
+    np.testing.assert_array_equal(ds.fluid_density.values, 1.04)
+    assert "fluid_density" not in water            # no [fluid]: no fluid outputs by default
+
+
+def test_brine_follows_the_paths_temperature_and_pore_pressure(brine):
+    T, P = brine.temperature.values, brine.pressure_pore.values + STANDARD_ATMOSPHERE
+    b = pf.brine(T, P, 0.05)
+    np.testing.assert_allclose(brine.fluid_bulk_modulus.values, b.K, rtol=1e-12)
+    np.testing.assert_allclose(brine.fluid_density.values, b.rho, rtol=1e-12)
+    np.testing.assert_allclose(brine.fluid_velocity.values, b.vp, rtol=1e-12)
+    # brine stiffens then softens with depth (Batzle & Wang, Fig. 13): not one constant
+    K = brine.fluid_bulk_modulus.values
+    assert K.max() - K.min() > 0.2 and 0 < np.argmax(K) < K.size - 1
+
+
+def test_no_model_frame_sees_the_fluid(brine, water):
+    for name in ("K_dry", "G_dry"):
+        np.testing.assert_allclose(brine[name], water[name], rtol=1e-12)
+
+
+@pytest.mark.parametrize("model", ["hs_gassmann", "patchy_cement"])
+def test_gassmann_models_are_saturated_with_the_depths_fluid(brine, water, model):
+    """K_dry does not see the fluid; K_sat is Gassmann's with the depth's brine (the mineral
+    modulus backed out of the water-saturated run, whose fluid is 2.2 GPa)."""
+    b, w = brine.sel(model=model), water.sel(model=model)
+    np.testing.assert_allclose(b.K_dry, w.K_dry, rtol=1e-12)
+    np.testing.assert_allclose(b.G_sat, w.G_sat, rtol=1e-12)
+    phi = brine.porosity.values
+    # Gassmann solved for K_min from the water run (a root of a quadratic), then applied with
+    # the brine: an independent path from the runner's own call
+    Kd, Ks = w.K_dry.values, w.K_sat.values
+    lo, hi = np.maximum(Ks, Kd) * (1 + 1e-9), np.full_like(Ks, 100.0)
+    for _ in range(200):                           # bisection on K_min (K_sat rises with it)
+        mid = 0.5 * (lo + hi)
+        up = gassmann(Kd, mid, 2.2, phi) > Ks
+        hi, lo = np.where(up, mid, hi), np.where(up, lo, mid)
+    K_min = 0.5 * (lo + hi)
+    expect = gassmann(Kd, K_min, brine.fluid_bulk_modulus.values, phi)
+    np.testing.assert_allclose(b.K_sat, expect, rtol=1e-6)
+
+
+def test_self_consistent_model_takes_the_fluid_per_depth(brine):
+    from rockcem.materials import Fluid, mineral
+    from rockcem.models import self_consistent_model
+
+    k = 9
+    fluid = Fluid(float(brine.fluid_bulk_modulus[k]), float(brine.fluid_density[k]))
+    solids = np.array([1.0 - brine.cement_fraction[k] / (1 - brine.porosity[k]),
+                       brine.cement_fraction[k] / (1 - brine.porosity[k])])
+    one = self_consistent_model([mineral("quartz"), mineral("quartz_cement")], solids,
+                                float(brine.porosity[k]), fluid, aspect_ratio=0.108)
+    assert float(brine.vp.sel(model="self_consistent")[k]) == pytest.approx(float(one.vp),
+                                                                            rel=1e-9)
+
+
+def test_wood_mixture_inside_the_interval_brine_outside(brine):
+    ds = run(GAS)
+    z = ds.depth.values
+    inside = (z >= 2000) & (z <= 3000)
+    np.testing.assert_array_equal(ds.hydrocarbon_saturation.values, np.where(inside, 0.8, 0.0))
+    for name in ("vp", "fluid_bulk_modulus", "density"):
+        np.testing.assert_array_equal(ds[name].values[..., ~inside],
+                                      brine[name].values[..., ~inside])
+    T = ds.temperature.values[inside]
+    P = ds.pressure_pore.values[inside] + STANDARD_ATMOSPHERE
+    g, b = pf.gas(T, P, 0.6), pf.brine(T, P, 0.05)
+    K_wood = 1.0 / (0.2 / b.K + 0.8 / g.K)              # Wood 1955, closed form
+    np.testing.assert_allclose(ds.fluid_bulk_modulus.values[inside], K_wood, rtol=1e-12)
+    np.testing.assert_allclose(ds.fluid_density.values[inside], 0.2 * b.rho + 0.8 * g.rho,
+                               rtol=1e-12)
+    # a gas sand is slower and lighter than the brine sand, Vp/Vs lower
+    vp, vs = ds.vp.values[:, inside], ds.vs.values[:, inside]
+    assert np.all(vp < brine.vp.values[:, inside])
+    assert np.all(vp / vs < brine.vp.values[:, inside] / brine.vs.values[:, inside])
+
+
+def test_patchy_is_the_p_modulus_average_of_the_two_saturated_rocks(brine):
+    """Patchy saturation from two separate runs — all brine, all gas — combined by hand."""
+    ds = run({**GAS, "mixing": "patchy"})
+    all_gas = run({**GAS, "saturation": 1.0})
+    z = ds.depth.values
+    inside = (z >= 2000) & (z <= 3000)
+    for model in ("hs_gassmann", "patchy_cement"):
+        b, g, p = (d.sel(model=model).isel(depth=inside) for d in (brine, all_gas, ds))
+        M = 1.0 / (0.2 / (b.K_sat + 4 / 3 * b.G_sat) + 0.8 / (g.K_sat + 4 / 3 * g.G_sat))
+        np.testing.assert_allclose(p.K_sat + 4 / 3 * p.G_sat, M, rtol=1e-10)
+        rho = 0.2 * b.density + 0.8 * g.density
+        np.testing.assert_allclose(p.vp, np.sqrt(M / rho), rtol=1e-10)
+    # patchy is stiffer than uniform (Wood) saturation: its upper limit
+    wood = run(GAS)
+    assert np.all(ds.vp.values[:, inside] >= wood.vp.values[:, inside] - 1e-12)
+    assert "fluid_bulk_modulus" not in ds          # no single fluid in patches
+
+
+def test_co2_sand_through_the_reference_equation_of_state():
+    pytest.importorskip("CoolProp")
+    ds = run({**GAS, "hydrocarbon": "co2"})
+    z = ds.depth.values
+    inside = (z >= 2000) & (z <= 3000)
+    c = pf.co2(ds.temperature.values[inside],
+               ds.pressure_pore.values[inside] + STANDARD_ATMOSPHERE)
+    assert np.all((c.rho > 0.3) & (c.rho < 0.9))        # dense (supercritical) CO2 at 2-3 km
+    np.testing.assert_allclose(ds.fluid_density.values[inside],
+                               0.2 * pf.brine(ds.temperature.values[inside],
+                                              ds.pressure_pore.values[inside]
+                                              + STANDARD_ATMOSPHERE, 0.05).rho + 0.8 * c.rho,
+                               rtol=1e-12)
+
+
+def test_the_fluid_is_a_sweep_dimension(brine):
+    raw = {**BASE, "fluid": {k: v for k, v in GAS.items() if k != "hydrocarbon"},
+           "sweep": {"fluid.hydrocarbon": ["none", "gas", "oil"]}}
+    ds = run_scene(scene_from_dict(raw))
+    assert list(ds.hydrocarbon.values) == ["none", "gas", "oil"]
+    np.testing.assert_array_equal(ds.vp.sel(hydrocarbon="none").values, brine.vp.values)
+    np.testing.assert_array_equal(ds.vp.sel(hydrocarbon="gas").values, run(GAS).vp.values)
+    np.testing.assert_array_equal(ds.hydrocarbon_saturation.sel(hydrocarbon="none").values, 0.0)
+
+
+def test_fluid_warnings_name_the_depths():
+    ds = run({"model": "batzle_wang", "salinity": 0.32})
+    assert "salinity above 0.3" in ds.attrs["validity_warnings"]
+
+
+@pytest.mark.parametrize("fluid,message", [
+    ({"hydrocarbon": "gas"}, "fluid.saturation is required"),
+    ({"hydrocarbon": "gaz", "saturation": 0.5}, "did you mean 'gas'"),
+    ({"model": "batzle-wang"}, "did you mean 'batzle_wang'"),
+    ({"salinity": 0.1}, "fluid.salinity does not apply to fluid.model = 'constant'"),
+    ({"hydrocarbon": "gas", "saturation": 0.5, "oil_api": 30.0},
+     "fluid.oil_api does not apply"),
+    ({"saturation": 0.5}, "fluid.saturation does not apply to fluid.hydrocarbon = 'none'"),
+    ({"hydrocarbon": "gas", "saturation": 1.5}, r"fluid.saturation must lie in \[0, 1\]"),
+    ({"model": "batzle_wang", "salinity": 0.35}, r"fluid.salinity must lie in \[0, 0.35\)"),
+    ({"hydrocarbon": "gas", "saturation": 0.5, "top": 3000.0, "base": 2000.0}, "top < base"),
+    ({"hydrocarbon": "gas", "saturation": 0.5, "top": 9000.0}, "holds no depth"),
+    ({"hydrocarbon": "oil", "saturation": 0.5, "gas_oil_ratio": 500.0},
+     r"\[fluid\] \(fluid.hydrocarbon = 'oil'\).*gas_oil_ratio"),
+])
+def test_bad_fluid_sections_are_named(fluid, message):
+    with pytest.raises(ValueError, match=message):
+        run(fluid)
+
+
+def test_patchy_scene_refuses_a_single_fluid_modulus_output():
+    with pytest.raises(ValueError, match="'fluid_bulk_modulus' is not available.*patchy"):
+        run({**GAS, "mixing": "patchy"}, outputs=["vp", "fluid_bulk_modulus"])
