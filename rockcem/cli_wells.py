@@ -1,5 +1,6 @@
-"""The well commands of the ``rockcem`` command line: ``compare``, ``fit`` and ``plot --well``;
-and :func:`output_file`, the check every command makes of the files it will write.
+"""The well commands of the ``rockcem`` command line: ``compare``, ``fit``, ``wells`` and
+``plot --well`` (each prints the well's read report: what was read, kept and blanked); and
+:func:`output_file`, the check every command makes of the files it will write.
 
 Kept apart from :mod:`rockcem.cli`, which registers them (:func:`add_commands`).
 """
@@ -67,10 +68,42 @@ def output_file(given, default, *, what="-o", figure=False):
     return out
 
 
-def _well(args):
-    from .wells import read_well
+def _curves(items):
+    """``--curve VARIABLE=MNEMONIC`` options as ``{variable: mnemonic or None}``."""
+    curves = {}
+    for item in items or []:
+        var, eq, mnemonic = item.partition("=")
+        if not eq or not var.strip() or not mnemonic.strip():
+            raise ValueError(f"--curve {item}: expected VARIABLE=MNEMONIC, e.g. vp=DTCO "
+                             "(or vp=none to leave vp out)")
+        mnemonic = mnemonic.strip()
+        curves[var.strip()] = None if mnemonic.lower() == "none" else mnemonic
+    return curves
 
-    return read_well(args.well, depth_offset=args.depth_offset)
+
+def _well(args):
+    """The well of ``--well``, read with ``--curve``, ``--null`` and ``--depth-offset``; its
+    read report printed (unless ``--quiet``, which prints the warnings instead)."""
+    import sys
+    import warnings
+
+    from .wells import WellLogWarning, format_read_report, read_well
+
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always", WellLogWarning)
+        well = read_well(args.well, depth_offset=args.depth_offset,
+                         null=getattr(args, "null", None),
+                         curves=_curves(getattr(args, "curve", None)))
+    for w in record:
+        if not issubclass(w.category, WellLogWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if getattr(args, "quiet", False):
+        for w in record:
+            if issubclass(w.category, WellLogWarning):
+                print(f"rockcem: warning: {w.message}", file=sys.stderr)
+    else:
+        print("read " + format_read_report(well))
+    return well
 
 
 def _scene_dataset(source):
@@ -103,9 +136,13 @@ def _compare(args) -> int:
                          "member (rockcem plot --select, or a scene without [sweep])")
     table = well_misfit(ds, well, intervals=args.intervals)
     name = well.attrs.get("well") or Path(args.well).name
-    print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name}: rms and mean of "
-          "model/log - 1 per depth interval (m)")
-    with pd.option_context("display.width", 120, "display.max_rows", 500):
+    print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name} per depth interval "
+          "(m): rms and mean (bias) of model/log - 1 for vp, vs and density, of model - log "
+          "for porosity (a fraction)")
+    if "porosity" in table.variable.values and "comment" in well.porosity.attrs:
+        print(f"porosity log {well.porosity.attrs.get('source_mnemonic', '')}: "
+              f"{well.porosity.attrs['comment']}")
+    with pd.option_context("display.width", 140, "display.max_rows", 500):
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     return 0
 
@@ -148,7 +185,7 @@ def _fit(args) -> int:
     if args.error:
         errors = {}
         for item in args.error:
-            name, eq, value = item.partition("=")
+            name, _, value = item.partition("=")
             try:
                 errors[name.strip()] = float(value)
             except ValueError:
@@ -186,22 +223,54 @@ def plot_with_well(ds, args, path):
 
 
 def add_well_options(p, *, required):
-    """The options naming a well log."""
+    """The options naming a well log and how to read it."""
     p.add_argument("--well", required=required,
-                   help="well log: LAS 2.0 or CSV (units from the header)")
+                   help="well log: a LAS file (1.2, 2.0, 3.0, wrapped or not) or a CSV file "
+                        "(units from the header), or a shipped well's name "
+                        "(`rockcem wells`)")
     p.add_argument("--depth-offset", type=float, default=0.0, metavar="M",
                    help="subtracted from the log depth to give depth below the sediment "
                         "surface (m; default 0)")
+    p.add_argument("--curve", action="append", metavar="VARIABLE=MNEMONIC",
+                   help="the log curve of vp, vs, density or porosity, e.g. vp=DTCO, or "
+                        "vp=none to leave vp out (repeat; default: the first known mnemonic, "
+                        "rockcem.wells.ALIASES)")
+    p.add_argument("--null", action="append", type=float, metavar="VALUE",
+                   help="a null value besides the file's own, e.g. --null -9999 (repeat)")
+
+
+def _wells(args) -> int:
+    """``rockcem wells``: the shipped wells, one line each."""
+    import warnings
+
+    from .wells import WellLogWarning, read_well, shipped_wells
+
+    for name, path in shipped_wells().items():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", WellLogWarning)
+            try:
+                well = read_well(path)
+            except ValueError as exc:
+                print(f"{name:<32} ({exc})")
+                continue
+        z = well.depth.values
+        print(f"{name:<32} {', '.join(well.data_vars):<30} {z[0]:7.1f}-{z[-1]:7.1f} m  "
+              f"{well.attrs.get('well', '')}")
+    return 0
 
 
 def add_commands(sub):
-    """Register ``compare`` and ``fit`` on the CLI's subparsers."""
+    """Register ``compare``, ``wells`` and ``fit`` on the CLI's subparsers."""
     p = sub.add_parser("compare", help="misfit of each model to a well log per depth interval")
     p.add_argument("scene", help="netCDF file of `rockcem run`, or a scene to run")
     add_well_options(p, required=True)
     p.add_argument("--intervals", type=float, nargs="+", metavar="DEPTH",
                    help="interval boundaries in m (default: one interval over the overlap)")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="no read report (what was read and blanked is then warned on stderr)")
     p.set_defaults(func=_compare)
+    p = sub.add_parser("wells", help="list the shipped wells (names for --well)")
+    p.set_defaults(func=_wells)
     p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares")
     p.add_argument("scene", help="scene file or shipped scene name")
     add_well_options(p, required=True)

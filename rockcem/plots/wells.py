@@ -21,7 +21,8 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
     """Well logs drawn over a scene's depth trends (one panel per shared variable).
 
     The panels are those of :func:`rockcem.plots.depth_trends` (models in their colours); the
-    logs are drawn in grey beneath them, labelled with the well's name.
+    logs are drawn in grey beneath them, labelled with the well's name and the log's mnemonic
+    (``"NPHI, apparent"`` for an apparent porosity: a neutron or density porosity).
 
     Parameters
     ----------
@@ -68,7 +69,10 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
     z = well.depth.values
     for ax, v in zip(fig.axes, variables):
         values = well[v].values
-        line, = ax.plot(values, z, label=f"{name} ({well[v].attrs.get('source_mnemonic', v)})",
+        # log_label (rockcem.wells): the mnemonic, and "NPHI, apparent" for a neutron or
+        # density porosity, which is not the total porosity the scene models.
+        log = well[v].attrs.get("log_label") or well[v].attrs.get("source_mnemonic", v)
+        line, = ax.plot(values, z, label=f"{name} ({log})",
                         gid=f"well:{v}", **_log_style(np.isfinite(values).sum()))
         ax.legend(handles=[line], loc="lower left", fontsize=7.0, frameon=False)
     lo = min(float(ds.depth.min()), float(z.min())) if depth is None else float(depth[0])
