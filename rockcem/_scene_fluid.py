@@ -22,9 +22,11 @@ __all__ = ["SceneFluid", "scene_fluid", "patchy_rock"]
 class SceneFluid:
     """What the models get: ``fluid`` (one :class:`~rockcem.materials.Fluid`, arrays over depth),
     or, for patchy saturation, ``patches`` (brine and hydrocarbon fluids) with ``saturation`` (the
-    hydrocarbon's, per depth); ``outputs`` are the fluid variables per depth; ``warnings`` the
-    validity lines of the fluid correlations."""
+    hydrocarbon's, per depth); ``brine`` the brine alone (the templates' fluid); ``outputs``
+    are the fluid variables per depth; ``warnings`` the validity lines of the fluid
+    correlations."""
 
+    brine: object
     fluid: object
     patches: tuple | None
     saturation: np.ndarray
@@ -62,7 +64,7 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
     kind = section["hydrocarbon"]
     S = np.zeros(depth.shape)
     if kind == "none":
-        return SceneFluid(brine, None, S, _outputs(brine, S), warnings)
+        return SceneFluid(brine, brine, None, S, _outputs(brine, S), warnings)
     top = section["top"] if section["top"] is not None else -np.inf
     base = section["base"] if section["base"] is not None else np.inf
     inside = (depth >= top) & (depth <= base)
@@ -93,7 +95,7 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
     if mixing == "patchy":
         rho = (1.0 - S) * brine.rho + S * hydrocarbon.rho
         outputs = {"fluid_density": rho, "hydrocarbon_saturation": S}
-        return SceneFluid(None, (brine, hydrocarbon), S, outputs, warnings)
+        return SceneFluid(brine, None, (brine, hydrocarbon), S, outputs, warnings)
     if mixing == "brie":
         exponent = section["brie_exponent"] if section["brie_exponent"] is not None else 3.0
         m = pf.brie(1.0 - S, brine.K, hydrocarbon.K, brine.rho, hydrocarbon.rho,
@@ -102,7 +104,7 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
         m = pf.wood(np.stack([1.0 - S, S], axis=-1), np.stack([brine.K, hydrocarbon.K], -1),
                     np.stack([brine.rho, hydrocarbon.rho], -1))
     mixed = Fluid(m.K, m.rho, name=f"brine and {kind} ({mixing})")
-    return SceneFluid(mixed, None, S, _outputs(mixed, S), warnings)
+    return SceneFluid(brine, mixed, None, S, _outputs(mixed, S), warnings)
 
 
 def _outputs(fluid, saturation):

@@ -148,7 +148,7 @@ class _Pipeline:
                        "fluid_velocity": np.full(shape, np.sqrt(fluid.K / fluid.rho)
                                                  if fluid.rho > 0 else 0.0),
                        "hydrocarbon_saturation": np.zeros(shape)}
-            return SceneFluid(fluid, None, outputs["hydrocarbon_saturation"], outputs, [])
+            return SceneFluid(fluid, fluid, None, outputs["hydrocarbon_saturation"], outputs, [])
         return scene_fluid(f, self.sec["materials"]["fluid"], self.now(self.path.depth),
                            self.now(self.path.temperature), self.pressures.pore)
 
@@ -285,7 +285,9 @@ def _global_attrs(scene):
            if scene.lithology == "sandstone" else
            {"smectite": scene.sections["materials"]["smectite"],
             "illite": scene.sections["materials"]["illite"]}),
-        "fluid": _fluid_attr(scene.sections),
+        "fluid": (scene.sections["materials"]["fluid"]
+                  if scene.sections["fluid"]["model"] == "constant" else "brine"),
+        "pore_fluid": _fluid_attr(scene.sections),
     }
 
 
@@ -357,6 +359,11 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
     if "pore_fluid" in pipe.__dict__:
         warnings += pipe.pore_fluid.warnings
+        if attrs["fluid"] == "brine":
+            # The templates' fluid (plots): the brine at the median of the profile.
+            brine = pipe.pore_fluid.brine
+            attrs["brine_bulk_modulus"] = float(np.median(brine.K))
+            attrs["brine_density"] = float(np.median(brine.rho))
     if "md" in pipe.__dict__:
         from ._md_backend import md_warnings
 

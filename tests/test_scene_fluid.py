@@ -187,3 +187,21 @@ def test_bad_fluid_sections_are_named(fluid, message):
 def test_patchy_scene_refuses_a_single_fluid_modulus_output():
     with pytest.raises(ValueError, match="'fluid_bulk_modulus' is not available.*patchy"):
         run({**GAS, "mixing": "patchy"}, outputs=["vp", "fluid_bulk_modulus"])
+
+
+def test_templates_take_the_scenes_brine(brine):
+    """The plots' template lines are saturated with the scene's brine (its median over the
+    profile), not the catalogue water the Dataset no longer names."""
+    import matplotlib.pyplot as plt
+
+    from rockcem.plots import rock_physics_template, velocity_porosity
+
+    assert brine.attrs["fluid"] == "brine"
+    assert brine.attrs["brine_bulk_modulus"] == pytest.approx(
+        float(np.median(brine.fluid_bulk_modulus)), rel=1e-12)
+    assert "Batzle & Wang brine, salinity 0.05" in brine.attrs["pore_fluid"]
+    for plot in (rock_physics_template, velocity_porosity):
+        fig = plot(brine)
+        titles = " ".join(t.get_text() for t in fig.findobj(plt.Text))
+        assert "brine (median)" in titles
+        plt.close(fig)

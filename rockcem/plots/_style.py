@@ -283,6 +283,10 @@ def _material(value, kind: str, ds, attr: str):
             raise ValueError(f"{attr} is not given and the Dataset has no attribute {attr!r}; "
                              f"pass {attr}= (a catalogue name or a {kind})")
         value = ds.attrs[attr]
+        if attr == "fluid" and value == "brine" and "brine_bulk_modulus" in ds.attrs:
+            # A scene's Batzle-Wang brine, which varies with depth: its median over the profile.
+            return Fluid(float(ds.attrs["brine_bulk_modulus"]), float(ds.attrs["brine_density"]),
+                         name="brine (median)")
     if isinstance(value, str):
         return mineral(value) if kind == "Mineral" else fluid(value)
     if isinstance(value, Mineral if kind == "Mineral" else Fluid):

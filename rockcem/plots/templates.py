@@ -285,12 +285,14 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     given = {"grain": grain, "cement": cement, "fluid": fluid,
              "critical_porosity": critical_porosity}
     attrs = dict(ds.attrs) if ds is not None else {}
+    scene_fluid = fluid is None and "fluid" in attrs
     for key, value in given.items():           # given, else the scene's, else the default
         if value is None:
             given[key] = attrs.get(key, _TEMPLATE_DEFAULTS[key])
     grain = _material(given["grain"], "Mineral", None, "grain")
     cement = _material(given["cement"], "Mineral", None, "cement")
-    fluid = _material(given["fluid"], "Fluid", None, "fluid")
+    fluid = _material(None, "Fluid", ds, "fluid") if scene_fluid else \
+        _material(given["fluid"], "Fluid", None, "fluid")
     phic = float(given["critical_porosity"])
     if not 0.0 < phic < 1.0:
         raise ValueError(f"critical_porosity must lie in (0, 1); got {phic:g}")
