@@ -205,3 +205,15 @@ def test_templates_take_the_scenes_brine(brine):
         titles = " ".join(t.get_text() for t in fig.findobj(plt.Text))
         assert "brine (median)" in titles
         plt.close(fig)
+
+
+def test_each_horizon_gets_its_own_present_day_brine():
+    """On a horizon table the fluid follows each horizon's present-day temperature and pore
+    pressure (an uplifted horizon is cooler than its deepest burial)."""
+    from rockcem.scene import load_scene
+
+    scene = load_scene("synthetic_basin_horizons")
+    ds = run_scene(scene.replace(**{"fluid.model": "batzle_wang", "fluid.salinity": 0.1}))
+    b = pf.brine(ds.temperature.values, ds.pressure_pore.values + STANDARD_ATMOSPHERE, 0.1)
+    np.testing.assert_allclose(ds.fluid_bulk_modulus.values, b.K, rtol=1e-12)
+    assert ds.fluid_bulk_modulus.dims == ("depth",) and "horizon" in ds.coords
