@@ -396,15 +396,24 @@ def load_calibration(source, *, base_dir=None) -> dict:
         If the file is missing, not TOML, or not a valid calibration file.
     """
     given = Path(str(source))
-    candidates = [given] if given.is_absolute() else (
-        ([Path(base_dir) / given] if base_dir is not None else []) + [given])
+    places = [("", given)] if given.is_absolute() else (
+        ([("the scene file's folder", Path(base_dir) / given)] if base_dir is not None else [])
+        + [("the working directory", Path.cwd() / given)])
     shipped = shipped_calibrations()
     if not given.is_absolute() and not given.suffix and len(given.parts) == 1 \
             and str(source) in shipped:
-        candidates.append(shipped[str(source)])
-    path = next((p for p in candidates if p.is_file()), None)
+        places.append(("shipped", shipped[str(source)]))
+    candidates = []
+    for where, p in places:                 # the scene's folder may be the working directory
+        same = next((k for k, (_, q) in enumerate(candidates) if q.resolve() == p.resolve()), None)
+        if same is None:
+            candidates.append((where, p))
+        else:
+            candidates[same] = (candidates[same][0] + " and " + where, candidates[same][1])
+    path = next((p for _, p in candidates if p.is_file()), None)
     if path is None:
-        looked = ", ".join(str(p) for p in candidates)
+        looked = "; ".join(f"{p.resolve()} ({where})" if where else str(p)
+                           for where, p in candidates)
         names = f"; shipped calibrations: {', '.join(shipped)}" if shipped else ""
         raise ValueError(f"calibration file {str(source)!r} not found (looked for {looked})"
                          f"{names}")

@@ -282,12 +282,30 @@ def _select(ds, selections):
 def _scenes(args) -> int:
     import tomllib
 
-    from .scene import shipped_scenes
+    from .scene import scene_path, shipped_scenes
 
-    for name, path in shipped_scenes().items():
-        with open(path, "rb") as fh:
-            desc = tomllib.load(fh).get("description", "")
-        print(f"{name:<40} {desc}")
+    if args.name is None:
+        if args.output is not None:
+            raise ValueError("-o writes one shipped scene: give its name (rockcem scenes NAME "
+                             "-o FILE)")
+        for name, path in shipped_scenes().items():
+            with open(path, "rb") as fh:
+                desc = tomllib.load(fh).get("description", "")
+            print(f"{name:<40} {desc}")
+        return 0
+    if args.name not in shipped_scenes():
+        scene_path(args.name)               # no such scene: the message with "did you mean"
+        raise ValueError(f"{args.name!r} is a file, not a shipped scene: rockcem scenes "
+                         "lists them")
+    text = shipped_scenes()[args.name].read_text()
+    if args.output is None:
+        sys.stdout.write(text)
+        return 0
+    from ._atomic import atomic_write
+
+    out = output_file(args.output, None)
+    path = atomic_write(out, lambda tmp: Path(tmp).write_text(text))
+    print(f"wrote {path}: edit it, then rockcem run {path}")
     return 0
 
 
@@ -326,7 +344,13 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("materials", help="list the mineral and fluid catalogue")
     p.set_defaults(func=_materials)
-    p = sub.add_parser("scenes", help="list the shipped scenes")
+    p = sub.add_parser("scenes", help="list the shipped scenes, or print or write one out to "
+                                      "start from")
+    p.add_argument("name", nargs="?", default=None,
+                   help="a shipped scene: print its TOML (or write it with -o)")
+    p.add_argument("-o", "--output", help="file to write the scene to (its data files, such as "
+                                          "a horizon table or a calibration, resolve by name "
+                                          "from anywhere)")
     p.set_defaults(func=_scenes)
     p = sub.add_parser("schema", help="list every scene key with its type, unit and default")
     p.set_defaults(func=_schema)

@@ -128,13 +128,29 @@ def read_history_table(path, kind) -> dict:
 
 
 def _resolve(name, base_dir):
+    """The table file: an absolute path; or relative to the scene file's folder, then to the
+    working directory; or, a bare file name, one shipped in ``datasets/wells/`` (so a scene
+    copied out of the shipped ones keeps its table)."""
+    from ._data import data_path
+
     given = Path(name)
-    candidates = [given] if given.is_absolute() else (
-        ([Path(base_dir) / given] if base_dir is not None else []) + [given])
-    found = next((p for p in candidates if p.is_file()), None)
+    places = [("", given)] if given.is_absolute() else (
+        ([("the scene file's folder", Path(base_dir) / given)] if base_dir is not None else [])
+        + [("the working directory", Path.cwd() / given)])
+    if not given.is_absolute() and len(given.parts) == 1:
+        places.append(("the shipped data", data_path("wells") / given))
+    unique = []
+    for where, p in places:                 # the scene's folder may be the working directory
+        same = next((k for k, (_, q) in enumerate(unique) if q.resolve() == p.resolve()), None)
+        if same is None:
+            unique.append((where, p))
+        else:
+            unique[same] = (unique[same][0] + " and " + where, unique[same][1])
+    found = next((p for _, p in unique if p.is_file()), None)
     if found is None:
-        raise ValueError(f"scene key path.table: file {name!r} not found (looked for "
-                         f"{', '.join(str(p) for p in candidates)})")
+        looked = "; ".join(f"{p.resolve()} ({where})" if where else str(p)
+                           for where, p in unique)
+        raise ValueError(f"scene key path.table: file {name!r} not found; looked for {looked}")
     return found
 
 
