@@ -127,7 +127,9 @@ def main(argv=None):
     ds = xr.load_dataset(path)
     err_total = total_error(ds)
     colours = COLOURS
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharex=True, constrained_layout=True)
+    # One y-scale for the four panels: the samples and cements compare at a glance.
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharex=True, sharey=True,
+                             constrained_layout=True)
     rows = []
     for i, sample in enumerate(ds.sample.values):
         for j, cement in enumerate(ds.cement.values):

@@ -149,10 +149,19 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             ax.tick_params(labelleft=k == 0)
         axes[0].set_ylabel(_label("depth", ds))
         axes[0].set_ylim(depth.max(), depth.min())          # depth increases downward
+        flagged = flagged_intervals(ds.attrs.get("validity_warnings", ""))
+        for top, base in flagged:           # where a model runs outside its source's range
+            for ax in axes:
+                ax.axhspan(top, base, color="0.55", alpha=0.12, linewidth=0, zorder=0.5,
+                           gid="flagged")
         if temperature_axis:
             _temperature_axes(axes[-1], ds, members)
+        from matplotlib.patches import Patch
+
+        shade = [Patch(color="0.55", alpha=0.25, linewidth=0,
+                       label="flagged (validity_warnings)")] if flagged else []
         if any("model" in da.dims for da in arrays):
-            fig.legend(handles=[Line2D([], [], color=_model_style(m, i, len(models))["color"],
+            fig.legend(handles=shade + [Line2D([], [], color=_model_style(m, i, len(models))["color"],
                                        marker=_model_marker(m, i), linestyle="none",
                                        label=_model_label(m)) if m in points else
                                 Line2D([], [], **{k: v for k, v in
@@ -160,10 +169,34 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                                   if k in ("color", "linestyle", "linewidth")},
                                        label=_model_label(m))
                                 for i, m in enumerate(models)],
-                       loc="outside upper center", ncols=min(len(models), 4 if len(variables) > 2
-                                                             else 2))
+                       loc="outside upper center", ncols=min(len(models) + len(shade),
+                                                             4 if len(variables) > 2 else 2))
+        elif shade:
+            fig.legend(handles=shade, loc="outside upper center")
         _sweep_legend(fig, dims, members, ds, held)
     return fig
+
+
+def flagged_intervals(warnings: str) -> list[tuple[float, float]]:
+    r"""The depth intervals (top, base), m, named by a Dataset's ``validity_warnings`` lines that
+    hold for the whole Dataset (``"... at 0–1479 m: ..."``; a line for some sweep members only,
+    which starts with ``[``, is left out, as is a line without an interval).
+
+    >>> flagged_intervals("Model 1 (Krief frame) at 0–1479 m: porosity above 0.324\n"
+    ...                   "[gradient = 20] quartz cement at 4455 m: overfill")
+    [(0.0, 1479.0)]
+    """
+    import re
+
+    out = []
+    for line in warnings.splitlines():
+        if line.startswith("["):
+            continue
+        match = re.search(r" at (-?\d[\d.e+]*)(?:–(-?\d[\d.e+]*))? m[:,]", line)
+        if match:
+            top = float(match.group(1))
+            out.append((top, float(match.group(2)) if match.group(2) else top))
+    return out
 
 
 def _error_bars(ds, name, sel, ok):

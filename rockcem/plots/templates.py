@@ -203,8 +203,8 @@ _TEMPLATE_DEFAULTS = {"grain": "quartz", "cement": "quartz_cement", "fluid": "wa
 
 
 def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
-                          critical_porosity=None, pressure=20.0, porosity=None,
-                          cement_fraction=(0.0, 0.01, 0.02, 0.04, 0.08),
+                          critical_porosity=None, pressure=None, porosity=None,
+                          cement_fraction=None,
                           coordination_number=None, delta=None, fig=None):
     r"""Rock-physics template: acoustic impedance against Vp/Vs from the patchy-cement model.
 
@@ -230,13 +230,16 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         Pore fluid; default ``ds.attrs["fluid"]``, else water.
     critical_porosity : float, optional
         :math:`\phi_c`, in (0, 1); default ``ds.attrs["critical_porosity"]``, else 0.36.
-    pressure : float
-        Effective pressure, MPa, ``>= 0``; default 20.
+    pressure : float, optional
+        Effective pressure, MPa, ``>= 0``; default the median of ``ds["pressure_effective"]``
+        if present, else 20.
     porosity : array_like, shape (m,), optional
         Porosities of the iso-porosity lines, in (0, ``critical_porosity``]; default 0.05,
         0.10, … up to ``critical_porosity``.
-    cement_fraction : array_like, shape (k,)
-        Cement fractions of the iso-cement lines, in [0, ``critical_porosity``).
+    cement_fraction : array_like, shape (k,), optional
+        Cement fractions of the iso-cement lines, in [0, ``critical_porosity``); default 0,
+        0.01, 0.02, 0.04, 0.08, and on in steps of 0.04 up to the largest cement fraction of
+        ``ds`` (so that the deepest, most cemented points lie within the lines).
     coordination_number : float, optional
         Coordination number of the pack; default the scene's (``ds.attrs["parameters_json"]``,
         section ``models.patchy_cement``), else 9.
@@ -298,6 +301,26 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         raise ValueError(f"critical_porosity must lie in (0, 1); got {phic:g}")
     if porosity is None:
         porosity = np.arange(1, int(phic / 0.05 + 1e-9) + 1) * 0.05
+    if pressure is None:
+        pe = ds["pressure_effective"].values if ds is not None and \
+            "pressure_effective" in ds.data_vars else []
+        pe = np.asarray(pe, dtype=float)[np.isfinite(pe)]
+        pressure = float(np.median(pe)) if pe.size else 20.0
+    if not (np.isfinite(float(pressure)) and float(pressure) >= 0.0):
+        raise ValueError(f"pressure must be >= 0 MPa; got {pressure!r}")
+    if cement_fraction is None:
+        cement_fraction = [0.0, 0.01, 0.02, 0.04, 0.08]
+        cmax = ds["cement_fraction"].values if ds is not None and \
+            "cement_fraction" in ds.data_vars else []
+        cmax = np.asarray(cmax, dtype=float)[np.isfinite(cmax)]
+        top = float(cmax.max()) if cmax.size else 0.0
+        # A line needs a porosity of the grid beside it: cement + porosity <= phic.
+        cap = phic - float(np.min(porosity))
+        while cement_fraction[-1] + 0.04 < min(top, cap):
+            cement_fraction.append(round(cement_fraction[-1] + 0.04, 2))
+        last = min(np.ceil(top * 100.0) / 100.0, np.floor(cap * 100.0) / 100.0)
+        if cement_fraction[-1] < last:                 # the data's own, rounded up
+            cement_fraction.append(float(last))
     phi = np.atleast_1d(np.asarray(porosity, dtype=float))
     phip = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
     if phi.ndim != 1 or np.any(~np.isfinite(phi)) or np.any((phi <= 0.0) | (phi > phic)):
@@ -354,7 +377,7 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
             _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
                             legend=(k == 0) and fig, title=(
                 f"Model 4 template: {_shown(grain, 'grain')}, {_shown(cement, 'cement')},\n"
-                f"{_shown(fluid, 'fluid')}, {pressure:g} MPa, $\\phi_c$ = {phic:g}, "
+                f"{_shown(fluid, 'fluid')}, {pressure:.3g} MPa, $\\phi_c$ = {phic:g}, "
                 f"$n$ = {knobs['coordination_number']:g}, $\\delta$ = {knobs['delta']:g} MPa"
                 + ((" (swept: panel titles)" if len(members) > 1 else " (swept: title)")
                    if own else "")))

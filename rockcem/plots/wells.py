@@ -67,6 +67,7 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
     fig = depth_trends(ds, list(variables), temperature_axis=False, fig=fig)
     name = well.attrs.get("well") or well.attrs.get("source_file") or "well"
     z = well.depth.values
+    logs = []
     for ax, v in zip(fig.axes, variables):
         values = well[v].values
         # log_label (rockcem.wells): the mnemonic, and "NPHI, apparent" for a neutron or
@@ -74,7 +75,11 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
         log = well[v].attrs.get("log_label") or well[v].attrs.get("source_mnemonic", v)
         line, = ax.plot(values, z, label=f"{name} ({log})",
                         gid=f"well:{v}", **_log_style(np.isfinite(values).sum()))
-        ax.legend(handles=[line], loc="lower left", fontsize=7.0, frameon=False)
+        logs.append(line)
+    # One legend of the logs below the panels, where it covers no data (inside a panel it
+    # covered the density and porosity logs).
+    fig.legend(handles=logs, loc="outside lower center", ncols=min(len(logs), 4),
+               fontsize=7.5, frameon=False)
     lo = min(float(ds.depth.min()), float(z.min())) if depth is None else float(depth[0])
     hi = max(float(ds.depth.max()), float(z.max())) if depth is None else float(depth[1])
     fig.axes[0].set_ylim(hi, lo)
@@ -141,6 +146,25 @@ def _unit(dotted):
     return f" {unit}" if unit not in ("", "1") else ""
 
 
+def _fitted_text(dotted, value, stderr):
+    """A fitted scene key as a reader writes it: its name in words (the variable registry's
+    ``long_name``, else the key with spaces) and the value with its standard error, both to the
+    error's second significant digit (``coordination number 6.48 ± 0.08``)."""
+    import math
+
+    from ..variables import variable_attrs
+
+    key = dotted.rpartition(".")[2]
+    try:
+        name = variable_attrs(key).get("long_name", key.replace("_", " "))
+    except ValueError:
+        name = key.replace("_", " ")
+    if not (np.isfinite(stderr) and stderr > 0):
+        return f"{name} {value:.4g}{_unit(dotted)} (error not determined)"
+    digits = max(0, 1 - math.floor(math.log10(stderr)))
+    return f"{name} {value:.{digits}f} ± {stderr:.{digits}f}{_unit(dotted)}"
+
+
 def fit_figure(fit, well, *, fig=None):
     """Before/after figure of a scene fitted to a well (:func:`rockcem.wellfit.fit_scene`).
 
@@ -184,8 +208,10 @@ def fit_figure(fit, well, *, fig=None):
     """
     import matplotlib.pyplot as plt
 
+    from matplotlib.patches import Patch
+
     from ..runner import evaluate
-    from ._style import _RC, _label
+    from ._style import _RC, _label, _model_label
 
     before, after = evaluate(fit.scene), evaluate(fit.fitted)
     variables = list(fit.variables)
@@ -208,9 +234,13 @@ def fit_figure(fit, well, *, fig=None):
         z = well.depth.values
         axes[0].set_ylim(max(float(after.depth.max()), float(z.max())),
                          min(float(after.depth.min()), float(z.min())))
-        axes[0].legend(loc="lower left", fontsize=7.0, frameon=False)
+        top, base = fit.depth_range
+        handles = axes[0].get_legend_handles_labels()[0] + [Patch(
+            color="#F0E442", alpha=0.3, linewidth=0,
+            label=f"fit window {top:g}–{base:g} m")]
+        fig.legend(handles=handles, loc="outside lower center", ncols=len(handles),
+                   fontsize=7.5, frameon=False)
         r = fit.result
-        fig.suptitle("; ".join(f"{k.rpartition('.')[2]} = {r.values[k]:.4g} ± "
-                               f"{r.stderr[k]:.2g}{_unit(k)}" for k in r.values)
-                     + (f"  ({fit.model})" if fit.model else ""), fontsize=9.0)
+        fig.suptitle("; ".join(_fitted_text(k, r.values[k], r.stderr[k]) for k in r.values)
+                     + (f" ({_model_label(fit.model)})" if fit.model else ""), fontsize=9.0)
     return fig

@@ -390,14 +390,16 @@ def test_rock_physics_template_takes_the_scene_materials():
     assert fig.legends[0].get_title().get_text().startswith(
         "Model 4 template: quartz han guo, epoxy kaolinite,")
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
+    # the template's pressure: the scene's median effective pressure
+    pe = float(np.median(ds.pressure_effective.values))
     r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.04,
-                            20.0, WATER, critical_porosity=0.4)
+                            pe, WATER, critical_porosity=0.4)
     assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
     assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
     ax = plots.rock_physics_template(ds, grain="quartz", cement="quartz_cement",
                                      critical_porosity=0.36).axes[0]
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
-    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, 20.0, WATER, critical_porosity=0.36)
+    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, pe, WATER, critical_porosity=0.36)
     assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
 
 
@@ -613,3 +615,75 @@ def test_public_api():
         obj = getattr(plots, name)
         if callable(obj):
             assert "Examples" in obj.__doc__ and "Parameters" in obj.__doc__
+
+
+def test_template_lines_reach_the_scenes_cement():
+    """Issue 22: the iso-cement lines went to 0.08 while the sandstone's cement reaches 0.28, so
+    the deepest points fell outside them."""
+    ds = scene()
+    top = float(ds.cement_fraction.max())
+    fig = plots.rock_physics_template(ds)
+    cements = sorted(float(ln.get_gid().split("=")[1]) for ln in fig.axes[0].get_lines()
+                     if str(ln.get_gid()).startswith("cement_fraction="))
+    assert cements[:5] == [0.0, 0.01, 0.02, 0.04, 0.08]
+    # up to the data's largest cement (rounded up), as far as the porosity grid (0.05, ...)
+    # leaves room below critical porosity: 0.36 - 0.05
+    assert cements[-1] == pytest.approx(min(np.ceil(top * 100) / 100, 0.31))
+    assert top > 0.08 and all(b - a <= 0.04 + 1e-12 for a, b in zip(cements, cements[1:]))
+    plt.close(fig)
+
+
+def test_depth_trends_shade_the_flagged_intervals():
+    """Issue 22: the depths the validity warnings name are shaded on every panel."""
+    ds = scene().assign_attrs(validity_warnings=(
+        "Model 1 (Krief frame) at 0–1400 m: porosity above 0.324\n"
+        "[gradient = 20] only some members at 100–200 m: not shaded\n"
+        "quartz cement at 3000–4000 m: overfill"))
+    fig = plots.depth_trends(ds)
+    for ax in fig.axes[:-1] if len(fig.axes) > 3 else fig.axes:
+        spans = [p for p in ax.patches if p.get_gid() == "flagged"]
+        extents = sorted(tuple(sorted((p.get_y(), p.get_y() + p.get_height())))
+                         for p in spans)
+        assert extents == [(0.0, 1400.0), (3000.0, 4000.0)]
+    labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "flagged (validity_warnings)" in labels
+    plt.close(fig)
+    fig = plots.depth_trends(scene())               # no warnings: nothing shaded
+    assert not [p for ax in fig.axes for p in ax.patches if p.get_gid() == "flagged"]
+    plt.close(fig)
+
+
+def test_fitted_values_are_written_as_a_reader_writes_them():
+    """Issue 22: the fit figure's title showed raw keys and '± 0.081'."""
+    from rockcem.plots.wells import _fitted_text
+
+    assert _fitted_text("models.patchy_cement.coordination_number", 6.4812, 0.0813) == \
+        "coordination number 6.481 ± 0.081"
+    assert _fitted_text("models.patchy_cement.delta", 39.63, 1.52) == \
+        "bonding pre-stress 39.6 ± 1.5 MPa"
+    assert _fitted_text("models.patchy_cement.delta", 39.63, 0.0) == \
+        "bonding pre-stress 39.63 MPa (error not determined)"
+
+
+def test_fit_figure_legend_names_the_window_and_overlay_legend_is_outside():
+    from rockcem.scene import load_scene, run_scene
+    from rockcem.synthetic_well import synthetic_well
+    from rockcem.wellfit import fit_scene
+
+    scene = load_scene("carcione2022_sandstone").replace(**{"path.depth_step": 200.0})
+    truth = run_scene(scene.replace(**{"models.patchy_cement.delta": 60.0}))
+    well = synthetic_well(truth, np.arange(1000.0, 3000.0, 100.0), sigma={"vp": 0.01},
+                          model="patchy_cement", seed=1)
+    fit = fit_scene(scene, well, ["models.patchy_cement.delta"], model="patchy_cement")
+    fig = plots.fit_figure(fit, well)
+    labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    top, base = fit.depth_range
+    assert f"fit window {top:g}–{base:g} m" in labels and "before" in labels
+    assert fig.get_suptitle().startswith("bonding pre-stress ")
+    assert "Model 4" in fig.get_suptitle()
+    plt.close(fig)
+    fig = plots.well_overlay(truth.sel(model="patchy_cement"), well)
+    assert all(ax.get_legend() is None for ax in fig.axes)       # nothing over the data
+    assert any("well" in t.get_text() or "vp" in t.get_text().lower()
+               for leg in fig.legends for t in leg.get_texts())
+    plt.close(fig)
