@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from ._scheduler import check_scheduler
-from .cli_wells import output_file
+from ._cli_files import output_file
 
 __all__ = ["main"]
 
@@ -181,7 +181,7 @@ def _plot(args) -> int:
 
     path = Path(args.file)
     if not path.is_file():
-        from .cli_wells import no_such_file
+        from ._cli_files import no_such_file
 
         raise ValueError(no_such_file(args.file))
     if args.output is not None:

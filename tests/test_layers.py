@@ -13,7 +13,7 @@ BASE = {"rockcem.validation", "rockcem.constants", "rockcem.variables", "rockcem
         "rockcem._atomic", "rockcem._toml"}
 SCENE_LAYER = {"rockcem.scene", "rockcem.runner", "rockcem.histories", "rockcem.wellfit",
                "rockcem.__main__",
-               "rockcem.cli", "rockcem.cli_wells", "rockcem.plots"}
+               "rockcem.cli", "rockcem.cli_wells", "rockcem._cli_files", "rockcem.plots"}
 
 
 def _module_name(path):
