@@ -7,28 +7,33 @@ between scene depths) and fits with :func:`rockcem.calibrate.fit_parameters`. Wh
 keys cannot change is computed once and shared by every trial: with only model parameters
 free the whole rock state (burial path, kinetics, compaction, density); with compaction keys
 (:data:`_COMPACTION_KEYS`) the path and the quartz-cement kinetics; with no path key the
-path (a history table is read once). The result gives
-values, one-sigma uncertainties, their correlation, the misfit before and after, parameters on a
-bound, and parameters the logs do not determine; :meth:`SceneFit.write_calibration` writes a
-scene calibration file (``model = "scene"``) that any scene applies with its top-level key
-``calibration = "<file>"``.
+path (a history table is read once). The result gives values, one-sigma uncertainties, their
+correlation, the misfit before and after, parameters on a bound, and parameters the logs do not
+determine; :meth:`SceneFit.write_calibration` writes a scene calibration file (``model =
+"scene"``) that any scene applies with its top-level key ``calibration = "<file>"``.
+
+The residuals are the misfits of :func:`rockcem.wells.well_misfit` (``compare``), from the same
+function: relative, :math:`m/o - 1`, for vp, vs and density; absolute, :math:`m - o`, for
+porosity, a fraction (:data:`rockcem.wells.MISFIT`: near 0 porosity a ratio blows up); the
+misfits reported are their root-mean-square values.
 
 Uncertainties are the linearised ones of :func:`rockcem.calibrate.fit_parameters`,
 :math:`s^2 (J^T W J)^{-1}`. With ``errors`` (the logs' standard deviations) they are absolute.
-Without, the errors are taken as relative, each log with its own scatter: a first fit on
-relative residuals :math:`m/o - 1` gives the model :math:`m^{(1)}` and the relative scatter
-:math:`s_v = \mathrm{rms}(o/m^{(1)} - 1)` of every log :math:`v`; the fit is repeated from
-there with residuals :math:`(m - o)/(s_v m^{(1)})` (two-stage feasible weighted least
+Without, each log is weighted by its own scatter: a first fit on the misfits
+:math:`(m - o)/c_v(o)`, with :math:`c_v(o) = o` (relative) or 1 (porosity), gives the model
+:math:`m^{(1)}` and the scatter :math:`s_v = \mathrm{rms}((o - m^{(1)})/c_v(m^{(1)}))` of every
+log :math:`v` (:math:`\mathrm{rms}(o/m^{(1)} - 1)` of a relative one); the fit is repeated from
+there with residuals :math:`(m - o)/(s_v c_v(m^{(1)}))` (two-stage feasible weighted least
 squares, [Carroll1988]_ ch. 2). One variance pooled over logs of different scatter (a porosity
 log at 15 % beside a sonic log at 2 %) would widen the uncertainties of the parameters that
 only the sonic logs constrain by the ratio of the scatters; and weights taken from the noisy
 log itself (:math:`m/o - 1`) bias the model low by about :math:`2 s_v^2` (0.1 % of Vp at 2 %
 scatter), which hundreds of samples turn into most of a standard error. Weights from the
 first model have neither fault. The covariance is then the robust (sandwich) one of
-[White1980]_, which stays right where the scatter is not a fixed fraction of the log (a
-porosity log with an absolute error of 0.01 from 0.35 down to 0.03), where
-:math:`s^2 (J^T W J)^{-1}` understated the error of a fitted gradient 2-fold (for parameters
-found unidentifiable the usual one is kept, whose correlations show it). Either way the
+[White1980]_, which stays right where the scatter is not the fixed fraction (for porosity, the
+fixed amount) of the log that the weights assume, as for a sonic log noisier at depth, where
+:math:`s^2 (J^T W J)^{-1}` was 1.5-fold off (for parameters found unidentifiable the usual one
+is kept, whose correlations show it). Either way the
 samples are taken as independent: residuals of a real log are correlated over the tool's
 vertical resolution and over the depths a model misses, so that the standard errors are then
 lower bounds (fitting every n-th sample, or the logs averaged over intervals, tests it).
@@ -52,6 +57,7 @@ import numpy as np
 from ._identifiability import CORRELATION_LIMIT as _CORRELATION_LIMIT
 from ._identifiability import correlation as _correlation
 from ._identifiability import unidentifiable as _shared_unidentifiable
+from ._well_misfit import MISFIT, _misfit, _misfit_scale, _relative
 from .wells import WELL_VARIABLES
 
 __all__ = ["DEFAULT_BOUNDS", "SceneFit", "fit_scene"]
@@ -94,7 +100,8 @@ class SceneFit:
     Attributes
     ----------
     result : rockcem.calibrate.FitResult
-        Values, standard errors, covariance, misfit (before: ``misfit_initial``), chi2, dof.
+        Values, standard errors, covariance, chi2, dof; ``misfit`` (before: ``misfit_initial``),
+        the rms misfit of each log as :func:`rockcem.wells.well_misfit` measures it.
     scene, fitted : Scene
         The reduced scene at the starting and at the fitted values.
     model : str or None
@@ -150,7 +157,9 @@ class SceneFit:
             for j in range(i + 1, len(names)):
                 lines.append(f"  correlation {names[i]} / {names[j]}: "
                              f"{self.correlation[i, j]:+.3f}")
-        lines.append("  rms relative misfit: " + ", ".join(
+        how = "relative misfit" if all(map(_relative, r.misfit)) else \
+            "misfit (" + "; ".join(f"{v} {MISFIT[v]}" for v in r.misfit) + ")"
+        lines.append(f"  rms {how}: " + ", ".join(
             f"{v} {r.misfit_initial[v]:.4f} -> {r.misfit[v]:.4f}" for v in r.misfit))
         lines.append(f"  chi2 {r.chi2:.4g}, dof {r.dof}, converged {r.success}")
         return "\n".join(lines)
@@ -342,8 +351,9 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
         Depth window, m; default the depths both cover.
     errors : mapping, optional, keyword-only
         ``{variable: standard deviation}`` of the logs in their units (km/s, g/cm³, fraction):
-        residuals weighted by them and uncertainties taken as absolute. Default: relative
-        residuals, each log weighted by its own rms relative residual (module docstring).
+        residuals weighted by them and uncertainties taken as absolute. Default: the misfits
+        of :func:`rockcem.wells.well_misfit` (relative; absolute for porosity), each log
+        weighted by its own scatter (module docstring).
 
     Returns
     -------
@@ -356,12 +366,9 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
 
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    source = ""
+    source = str(well.attrs.get("source_file", "")) if hasattr(well, "data_vars") else str(well)
     if not hasattr(well, "data_vars"):
-        source = str(well)
         well = read_well(well)
-    else:
-        source = str(well.attrs.get("source_file", ""))
     params = _free(scene, free)
     models_only = all(k.startswith("models.") for k in params)
     reduced, variables, model = _reduced(scene, well, variables, model,
@@ -406,9 +413,11 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     for v, values in observed.items():
         if np.any(values <= 0.0):
             at = float(z[masks[v]][np.flatnonzero(values <= 0.0)[0]])
+            why = "its misfit is relative" if _relative(v) else \
+                "rockcem.calibrate.fit_parameters takes positive observations"
             raise ValueError(f"log {v} is {values[values <= 0.0][0]:g} at {at:g} m; the fit "
-                             "needs positive values (misfits are relative): narrow the depth "
-                             "window or leave that log out")
+                             f"needs positive values ({why}): narrow the depth window or "
+                             "leave that log out")
 
     def trial(values):
         """The reduced scene at trial values, set without validating the whole scene again
@@ -436,32 +445,52 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     if sigma is not None and set(sigma) != set(variables):
         raise ValueError(f"errors must give a standard deviation for each fitted log: "
                          f"{', '.join(variables)}")
-    result = fit_parameters(predict, observed, params, errors=sigma,
+    x0 = {k: p[0] for k, p in params.items()}
+    initial = predict(**x0)                 # computed once, for the misfit before
+
+    def predict_from_start(**values):
+        return initial if values == x0 else predict(**values)
+
+    how = "relative" if all(map(_relative, variables)) else \
+        "misfits " + ", ".join(f"{v} {MISFIT[v]}" for v in variables)
+    # Without errors the residuals are well_misfit's, (m - o)/scale, their variance fitted.
+    scale = sigma or {v: _misfit_scale(v, observed[v]) for v in variables}
+    result = fit_parameters(predict_from_start, observed, params, errors=scale,
                             absolute_errors=sigma is not None)
-    weights = "relative residuals" if sigma is None else \
+    weights = ("relative residuals" if how == "relative" else how) if sigma is None else \
         "absolute errors " + ", ".join(f"{k} {v:g}" for k, v in sigma.items())
     if sigma is None:
-        # Second stage (module docstring): errors s_v m_v from the first solution m_v.
+        # Second stage (module docstring): errors s_v c_v(m_v) from the first solution m_v.
         first = result
         model_at = {v: np.asarray(first.predicted[v], dtype=float) for v in variables}
-        scatter = {v: float(np.sqrt(np.mean((observed[v] / model_at[v] - 1.0) ** 2)))
-                   for v in variables}
-        if all(scatter[v] > 0.0 and np.all(model_at[v] > 0.0) for v in variables):
+        scale = {v: _misfit_scale(v, model_at[v]) for v in variables}
+        scatter = _rms_misfit(observed, model_at)         # of the logs about the first fit
+        if all(scatter[v] > 0.0 and np.all(scale[v] > 0.0) for v in variables):
             again = {k: (min(max(first.values[k], lo), hi), lo, hi)
                      for k, (_, lo, hi) in params.items()}
-            errors = {v: scatter[v] * model_at[v] for v in variables}
+            errors = {v: scatter[v] * scale[v] for v in variables}
             result = fit_parameters(predict, observed, again, errors=errors)
-            result = dataclasses.replace(result, misfit_initial=first.misfit_initial)
-            weights = ("relative: each log weighted by its own scatter about the first fit ("
-                       + ", ".join(f"{v} {scatter[v]:.3%}" for v in variables) + ")")
+            weights = (how + ": each log weighted by its own scatter about the first fit ("
+                       + ", ".join(f"{v} {scatter[v]:.3%}" if _relative(v) else
+                                   f"{v} {scatter[v]:.3g}" for v in variables) + ")")
             if not _unidentifiable(result, params):       # else: the usual diagnostics
                 cov = _sandwich_covariance(predict, observed, errors, result.values, params)
                 result = dataclasses.replace(result, covariance=cov, stderr={
                     k: float(np.sqrt(max(cov[i, i], 0.0))) for i, k in enumerate(result.values)})
                 weights += "; robust (sandwich) covariance"
+    # The misfits as well_misfit gives them (fit_parameters reports relative ones).
+    result = dataclasses.replace(result, misfit=_rms_misfit(result.predicted, observed),
+                                 misfit_initial=_rms_misfit(initial, observed))
     bad = _unidentifiable(result, params)
     return SceneFit(result, reduced, reduced.replace(**result.values), model, variables,
                     (lo, hi), points, _correlation(result), bad, source, weights)
+
+
+def _rms_misfit(model, log):
+    """Root-mean-square misfit of ``model`` to ``log``, ``{variable: array}``, as
+    :func:`rockcem.wells.well_misfit` measures it."""
+    return {v: float(np.sqrt(np.mean(_misfit(np.asarray(model[v], dtype=float), o, v) ** 2)))
+            for v, o in log.items()}
 
 
 def _unidentifiable(result, params):
