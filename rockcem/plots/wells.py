@@ -242,5 +242,5 @@ def fit_figure(fit, well, *, fig=None):
                    fontsize=7.5, frameon=False)
         r = fit.result
         fig.suptitle("; ".join(_fitted_text(k, r.values[k], r.stderr[k]) for k in r.values)
-                     + (f" ({_model_label(fit.model)})" if fit.model else ""), fontsize=9.0)
+                     + (f"  ·  {_model_label(fit.model)}" if fit.model else ""), fontsize=9.0)
     return fig
