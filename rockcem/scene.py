@@ -490,10 +490,11 @@ def _check_fluid(given, fluid, sweep, sweep_member):
                 raise ValueError(f"scene key fluid.{key} does not apply to fluid.{selector} = "
                                  f"{fluid[selector]!r} (it applies to {selector} "
                                  f"{' or '.join(map(repr, uses))})")
-    if fluid["hydrocarbon"] != "none" and fluid["saturation"] is None:
+    carbons = [h for h in sweep.get("fluid.hydrocarbon", [fluid["hydrocarbon"]]) if h != "none"]
+    if carbons and fluid["saturation"] is None and "fluid.saturation" not in sweep:
         raise ValueError(f"scene key fluid.saturation is required with hydrocarbon = "
-                         f"{fluid['hydrocarbon']!r} (the hydrocarbon's share of the pore space "
-                         "in the interval, in [0, 1])")
+                         f"{carbons[0]!r} (the hydrocarbon's share of the pore space in the "
+                         "interval, in [0, 1])")
     ranges = {"salinity": (0.0, 0.35, "[0, 0.35)"), "saturation": (0.0, 1.0, "[0, 1]"),
               "brie_exponent": (1.0, 40.0, "[1, 40]"), "gas_gravity": (0.5, 2.0, "[0.5, 2]"),
               "oil_api": (0.0, 150.0, "[0, 150]"), "gas_oil_ratio": (0.0, 1e4, "[0, 1e4]"),

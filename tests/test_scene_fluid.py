@@ -184,6 +184,13 @@ def test_bad_fluid_sections_are_named(fluid, message):
         run(fluid)
 
 
+def test_a_swept_hydrocarbon_needs_its_saturation_at_load():
+    with pytest.raises(ValueError, match="fluid.saturation is required with hydrocarbon = "
+                                         "'gas'"):
+        scene_from_dict({**BASE, "fluid": {"model": "batzle_wang"},
+                         "sweep": {"fluid.hydrocarbon": ["none", "gas"]}})
+
+
 def test_patchy_scene_refuses_a_single_fluid_modulus_output():
     with pytest.raises(ValueError, match="'fluid_bulk_modulus' is not available.*patchy"):
         run({**GAS, "mixing": "patchy"}, outputs=["vp", "fluid_bulk_modulus"])
