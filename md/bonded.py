@@ -48,7 +48,7 @@ __all__ = ["BondStiffness", "bond_stiffness", "bond_cement_volume", "BondedSyste
 
 @dataclass(frozen=True)
 class BondedSystem:
-    """Grains, bonds and contacts of a bonded sample, linearised (6 degrees of freedom per
+    r"""Grains, bonds and contacts of a bonded sample, linearised (6 degrees of freedom per
     grain: displacement, then rotation).
 
     Attributes

@@ -66,7 +66,10 @@ def as_scalar(name: str, value) -> float:
 
 def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
                 low_open: bool = False, high_open: bool = False) -> np.ndarray:
-    """Raise ``ValueError`` unless every element lies in the interval ``low .. high``."""
+    """Raise ``ValueError`` unless every element lies between ``low`` and ``high``.
+
+    Each end is closed unless ``low_open`` or ``high_open`` says it is open.
+    """
     bad_low = arr <= low if low_open else arr < low
     bad_high = arr >= high if high_open else arr > high
     if np.any(bad_low | bad_high):
