@@ -27,7 +27,7 @@ the new kernels is the log-log slope of time against n over the sizes from 1e5 c
 
 Output: ``benchmarks/results/md_growth_speed.{csv,nc}`` and a markdown table on stdout.
 Run: ``python benchmarks/md_growth_speed.py [--quick]`` (about 10 min on the 2-core machine of
-the README; ``--quick``: three small lattices, under a minute, written as
+docs/studies/index.md; ``--quick``: three small lattices, under a minute, written as
 ``md_growth_speed_quick.*``).
 """
 

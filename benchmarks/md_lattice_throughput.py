@@ -47,7 +47,7 @@ bonds, particle update and slab signals included). Neither includes the static s
 
 Output: ``benchmarks/results/md_lattice_throughput.{csv,nc}`` and markdown tables on stdout.
 Run: ``python benchmarks/md_lattice_throughput.py [--sizes 1e4 1e5 1e6 1e7] [--rounds 3]``
-(about 1-2 min on the 2-core machine of the README).
+(about 1-2 min on the 2-core machine of docs/studies/index.md).
 """
 
 from __future__ import annotations

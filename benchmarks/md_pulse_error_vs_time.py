@@ -43,7 +43,7 @@ Output: ``benchmarks/results/md_pulse_error_vs_time.{csv,nc,png}`` (one row per 
 ``sweep`` = resolution / time_step / cement_block) and a markdown table on stdout.
 
 Run: ``python benchmarks/md_pulse_error_vs_time.py`` (about 3-4 min on the 2-core machine of the
-README with the pack cached, plus the settling the first time);
+studies, docs/studies/index.md, with the pack cached, plus the settling the first time);
 ``python benchmarks/md_pulse_error_vs_time.py --quick`` for a tiny run (Omega 2-4, three
 factors, two blocks: about 20 s with the pack cached).
 """

@@ -1,6 +1,6 @@
 """MD moduli of the burial scene against run time: the lattice resolution Omega and the pack size.
 
-The MD backend of a sandstone scene (``md.along_depth.carry_down``, README "MD along depth")
+The MD backend of a sandstone scene (``md.along_depth.carry_down``, docs/user_guide/md_along_depth.md)
 settles one pack, compacts it down the depths' largest effective stress, cements it to each
 depth's cement fraction and solves for the static P and shear moduli. Its two knobs that cost
 run time are the cement lattice resolution Omega = R/c_w and the pack size; this report measures

@@ -4,7 +4,7 @@ The MD backend of a burial scene (:mod:`rockcem.runner` calls :func:`carry_down`
 nothing of burial: it is handed, per depth, the largest effective stress the sediment has borne
 and its cement fraction, and returns the dry moduli of the cemented pack (SI units).
 
-What happens, in order (the reasoning is in the README, "MD along depth"):
+What happens, in order (the reasoning is in docs/user_guide/md_along_depth.md):
 
 1. One pack is settled (:func:`md.settle`) and never re-settled.
 2. Depths are taken in order of their largest effective stress; the *uncemented* pack is

@@ -492,7 +492,7 @@ def _scene_dataset(scene, ds, per_sample, member_seconds=None):
             kms, long_name=f"pulse velocity at the coarser resolution Omega = {coarse:g}")
         # First-order Richardson estimate of the distance to the Omega -> infinity limit,
         # |v(Omega) - v(Omega_c)| / (Omega/Omega_c - 1): the larger of the orders 1-1.6 that
-        # md_omega_convergence measured on a cemented pack (benchmarks/README.md).
+        # md_omega_convergence measured on a cemented pack (docs/studies/md_omega_convergence.md).
         out[f"v{w}_error_resolution"] = (abs(ds.velocity - ds.velocity_check) / 1e3
                                          / (fine / coarse - 1.0)).assign_attrs(
             kms, long_name=f"resolution error of the pulse velocity: first-order Richardson "

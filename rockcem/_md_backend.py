@@ -3,7 +3,7 @@ and cement fraction to :func:`md.along_depth.carry_down`, and the dry moduli it 
 saturated with the scene's fluid by Gassmann's equation.
 
 Private to the scene runner (:mod:`rockcem.runner`); imported, with numba, only by a scene
-with ``[models.md]``. The mapping and its reasoning are in the README ("MD along depth").
+with ``[models.md]``. The mapping and its reasoning are in docs/user_guide/md_along_depth.md.
 """
 
 from __future__ import annotations

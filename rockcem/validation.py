@@ -159,7 +159,7 @@ def sum_phases(a: np.ndarray) -> np.ndarray:
     """Sum over the (short) phase axis, the last one.
 
     A column-by-column loop: for a handful of phases numpy's reduction along a short last axis
-    costs a per-row overhead that is several times the arithmetic (see benchmarks/README.md).
+    costs a per-row overhead that is several times the arithmetic (docs/studies/bench_models.md).
     """
     out = a[..., 0].copy()
     for i in range(1, a.shape[-1]):

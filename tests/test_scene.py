@@ -380,7 +380,7 @@ def test_shipped_calibrated_sandstone():
     assert "garcia_medina_compacted_patchy" in calibrated.attrs["calibration"]
     # Fitted to the full-size MD study (pendular contact cement, compacted, hard): the patchy
     # frame follows the MD's steep rise and plateau in S_c only to about 23 % rms, and the data
-    # do not determine phi_p0, which is held (benchmarks/README.md, md_calibration).
+    # do not determine phi_p0, which is held (docs/studies/md_calibration.md).
     assert cal["model"] == "patchy_cement" and 0 < cal["misfit"]["vp"] < 0.3
     assert cal["identifiability"]["held"] == ["contact_cement_limit"]
     assert cal["parameters"]["contact_cement_limit"] == 0.05

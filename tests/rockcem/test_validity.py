@@ -31,7 +31,7 @@ def test_no_line_for_models_without_krief_or_rock_that_is_not_loose():
 
 
 def test_krief_frame_at_the_depositional_porosity_is_12_percent_of_the_mineral():
-    # the figure quoted in rockcem.validity and the README: (1 - 0.36)^(3 / 0.64)
+    # the figure quoted in rockcem.validity and docs/disagreements.md: (1 - 0.36)^(3 / 0.64)
     assert float(krief_factor(0.36)) == pytest.approx(0.64 ** (3.0 / 0.64), rel=1e-14)
     assert 0.12 < float(krief_factor(0.36)) < 0.13
     assert KRIEF_LOOSE_FRACTION == 0.9
