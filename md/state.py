@@ -131,6 +131,8 @@ def load_pack(path) -> Pack:
     try:
         with xr.open_dataset(path, engine="netcdf4") as ds:
             ds = ds.load()
+    except PermissionError:
+        raise ValueError(f"pack file {str(path)!r} cannot be read: permission denied") from None
     except (OSError, ValueError, RuntimeError) as exc:
         # netCDF4 raises OSError ("NetCDF: Unknown file format", "Invalid argument") for an empty,
         # truncated or foreign file, RuntimeError ("NetCDF: HDF error") for a damaged HDF5 one.

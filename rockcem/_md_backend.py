@@ -212,7 +212,8 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                           np.full(idx.size, np.nan) for v in (vp, vs))
         models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
                                         K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
-                                        vp=full(vp.mean(0)), vs=full(vs.mean(0)))
+                                        vp=full(vp.mean(0)), vs=full(vs.mean(0)),
+                                        density=full(rho.mean(0)))
         per_model[label] = {"vp_error_resolution": full(vp_res),
                             "vs_error_resolution": full(vs_res),
                             "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),

@@ -160,14 +160,21 @@ def patchy_rock(brine_rock, hydrocarbon_rock, saturation):
     G = _reuss(b.G_sat, h.G_sat, S)
     rho = (1.0 - S) * b.density + S * h.density
     K = M - 4.0 / 3.0 * G
-    v = velocities(K, G, rho)
-    return RockProperties(b.K_dry, b.G_dry, K, G, rho, v.vp, v.vs)
+    # NaN where the model has no rock (the MD member between its depths) stays NaN.
+    ok = np.isfinite(K) & np.isfinite(G) & np.isfinite(rho)
+    v = velocities(np.where(ok, K, 1.0), np.where(ok, G, 0.0), np.where(ok, rho, 1.0))
+    return RockProperties(b.K_dry, b.G_dry, K, G, rho, np.where(ok, v.vp, np.nan),
+                          np.where(ok, v.vs, np.nan))
 
 
 def _reuss(a, b, S):
-    """``1 / ((1 - S) / a + S / b)``; 0 where a patch that is present has a zero modulus."""
+    """``1 / ((1 - S) / a + S / b)``; 0 where a patch that is present has a zero modulus, NaN
+    where either is NaN (a depth a model did not run at, such as the MD member's)."""
     a, b, S = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), S)
+    missing = np.isnan(a) | np.isnan(b)
+    a, b = np.where(missing, 1.0, a), np.where(missing, 1.0, b)
     zero = ((a <= 0.0) & (S < 1.0)) | ((b <= 0.0) & (S > 0.0))
     c = (1.0 - S) / np.where(a > 0.0, a, 1.0) * (a > 0.0) + S / np.where(b > 0.0, b, 1.0) \
         * (b > 0.0)
-    return np.where(zero | (c <= 0.0), 0.0, 1.0 / np.where(c > 0.0, c, 1.0))
+    out = np.where(zero | (c <= 0.0), 0.0, 1.0 / np.where(c > 0.0, c, 1.0))
+    return np.where(missing, np.nan, out)

@@ -65,15 +65,26 @@ def check_scheduler(address, *, name="scheduler"):
         from distributed.comm import connect
     except ImportError:
         raise ValueError(f"{name} needs the 'dask' extra: {_EXTRA}") from None
+    if url.scheme == "tls":
+        # dask's TLS handshake needs the security configuration the client will use; the
+        # listening socket is as far as this check goes.
+        return
 
     async def handshake():
         comm = await connect(where, timeout=SCHEDULER_CONNECT_TIMEOUT_S)
         await comm.close()
 
-    # Something listens there: is it dask? (A server that is not can make dask's handshake read
-    # a garbage length and ask for exabytes, or never answer.)
-    try:
+    def probe():
         asyncio.run(asyncio.wait_for(handshake(), 2 * SCHEDULER_CONNECT_TIMEOUT_S))
+
+    # Something listens there: is it dask? (A server that is not can make dask's handshake read
+    # a garbage length and ask for exabytes, or never answer.) In a thread of its own, so that
+    # a caller inside a running event loop (a Jupyter notebook) can check too.
+    from concurrent.futures import ThreadPoolExecutor
+
+    try:
+        with ThreadPoolExecutor(max_workers=1) as pool:
+            pool.submit(probe).result()
     except (OSError, TimeoutError, MemoryError, ValueError) as exc:
         raise refuse(f"something listens there, but not a dask scheduler: "
                      f"{type(exc).__name__}") from None

@@ -253,7 +253,9 @@ def _select(ds, selections):
     chosen = {}
     for item in selections:
         key, eq, text = item.partition("=")
-        dim = key.strip().rpartition(".")[2]
+        from .variables import sweep_dimension
+
+        dim = sweep_dimension(key.strip()) if "." in key else key.strip()
         if not eq or not dim or not text.strip():
             raise ValueError(f"--select {item!r}: expected KEY=VALUE, e.g. gradient=30")
         if dim not in ds.dims or dim == "depth":

@@ -185,9 +185,13 @@ class _Pipeline:
         fluid = self.pore_fluid
         if fluid.patches is None:
             return self._md(fluid.fluid)
-        (brine, per_depth, per_model), (other, _, _) = (self._md(f) for f in fluid.patches)
-        return ({k: patchy_rock(brine[k], other[k], fluid.saturation) for k in brine},
-                per_depth, per_model)
+        (brine, per_depth, per_model), (other, _, other_model) = (self._md(f)
+                                                                   for f in fluid.patches)
+        S = fluid.saturation
+        for k in per_model:                  # the density the patchy velocities were made with
+            per_model[k]["md_density"] = (1.0 - S) * per_model[k]["md_density"] \
+                + S * other_model[k]["md_density"]
+        return ({k: patchy_rock(brine[k], other[k], S) for k in brine}, per_depth, per_model)
 
     def _md(self, fluid):
         from pathlib import Path
@@ -397,9 +401,11 @@ def sweep_members(scene):
     """``(coords, member)`` for every combination of the swept values of a scene: ``coords``
     maps each swept key's name to its value, ``member`` is the scene with those values and no
     sweep."""
+    from .variables import sweep_dimension
+
     keys = list(scene.sweep)
     for combo in itertools.product(*(scene.sweep[k] for k in keys)):
-        coords = {k.rpartition(".")[2]: v for k, v in zip(keys, combo)}
+        coords = {sweep_dimension(k): v for k, v in zip(keys, combo)}
         yield coords, (scene._with(dict(zip(keys, combo)), keep_sweep=False) if keys else scene)
 
 
@@ -415,7 +421,9 @@ def run(scene, *, scheduler=None, jobs=1, progress=False):
 
     if not scene.sweep:
         return evaluate(scene, scheduler=scheduler, jobs=jobs, progress=progress)
-    dims = [k.rpartition(".")[2] for k in scene.sweep]
+    from .variables import sweep_dimension
+
+    dims = [sweep_dimension(k) for k in scene.sweep]
     values = [scene.sweep[k] for k in scene.sweep]
     members = [(index, coords, member) for index, (coords, member)
                in zip(np.ndindex(*[len(v) for v in values]), sweep_members(scene))]
@@ -444,6 +452,7 @@ def run(scene, *, scheduler=None, jobs=1, progress=False):
     out = xr.Dataset(data, coords=coords, attrs=dict(template.attrs))
     out.attrs["sweep"] = json.dumps(scene.sweep)
     _merge_warnings(out, results, dims, values)
+    _merge_fluid(out, results, dims, values)
     from .variables import no_coordinate_fill
 
     no_coordinate_fill(out)
@@ -471,6 +480,23 @@ def _merge_warnings(out, results, dims, values):
         out.attrs["validity_warnings"] = "\n".join(
             line if len(where) == len(results) else f"[{'; '.join(where)}] {line}"
             for line, where in members.items())
+
+
+def _merge_fluid(out, results, dims, values):
+    """The pore fluid of a sweep in its attributes: one description if every member has the
+    same, else each member's; the templates' brine only where every member has the same."""
+    texts = {}
+    for index, ds in results:
+        member = ", ".join(f"{d} = {v[i]}" for d, v, i in zip(dims, values, index))
+        texts.setdefault(ds.attrs.get("pore_fluid", ""), []).append(member)
+    if len(texts) > 1:
+        out.attrs["pore_fluid"] = "varies over the sweep: " + " | ".join(
+            f"[{'; '.join(members)}] {text}" for text, members in texts.items())
+    for key in ("brine_bulk_modulus", "brine_density"):
+        seen = {ds.attrs.get(key) for _, ds in results}
+        if len(seen) > 1:                       # a sweep over the brine: no one template fluid
+            out.attrs.pop(key, None)
+            out.attrs["brine_varies"] = "the brine differs between sweep members"
 
 
 def _sweep_attrs(key):

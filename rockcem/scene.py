@@ -42,6 +42,7 @@ import numpy as np
 from ._atomic import check_scene_name
 from ._data import data_path
 from ._toml import toml_value
+from .variables import sweep_dimension
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
            "run_scene", "write_dataset", "MAX_SWEEP_MEMBERS", "sweep_size", "MODEL_OUTPUTS",
@@ -362,6 +363,13 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
     _check_path_kind(raw.get("path", {}), sections["path"], base_dir)
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
     _check_fluid(raw.get("fluid", {}), sections["fluid"], sweep, _sweep_member)
+    models_of_fluid = sweep.get("fluid.model", [sections["fluid"]["model"]])
+    # Batzle & Wang's brine is water of the path's temperature and pressure: a catalogue fluid
+    # other than water would be dropped without a word.
+    if sections["materials"]["fluid"] != "water" and "constant" not in models_of_fluid:
+        raise ValueError(f"scene key materials.fluid = {sections['materials']['fluid']!r} does "
+                         "not apply to fluid.model = 'batzle_wang' (its brine is water of the "
+                         "path's temperature and pressure); remove one of them")
     valid_outputs = STATE_OUTPUTS[lithology] + (MODEL_OUTPUTS if models else ())
     fluid_outputs, fluid_defaults = _fluid_outputs(sections["fluid"], sweep)
     outputs = head["outputs"]
@@ -487,9 +495,11 @@ def _check_fluid(given, fluid, sweep, sweep_member):
             choices = sweep.get(f"fluid.{selector}", [fluid[selector]])
             if not any(c == uses or c in uses for c in choices):
                 uses = (uses,) if isinstance(uses, str) else uses
-                raise ValueError(f"scene key fluid.{key} does not apply to fluid.{selector} = "
-                                 f"{fluid[selector]!r} (it applies to {selector} "
-                                 f"{' or '.join(map(repr, uses))})")
+                chosen = (f"fluid.{selector} swept over {choices}"
+                          if f"fluid.{selector}" in sweep else
+                          f"fluid.{selector} = {fluid[selector]!r}")
+                raise ValueError(f"scene key fluid.{key} does not apply to {chosen} (it "
+                                 f"applies to {selector} {' or '.join(map(repr, uses))})")
     carbons = [h for h in sweep.get("fluid.hydrocarbon", [fluid["hydrocarbon"]]) if h != "none"]
     if carbons and fluid["saturation"] is None and "fluid.saturation" not in sweep:
         raise ValueError(f"scene key fluid.saturation is required with hydrocarbon = "
@@ -504,10 +514,17 @@ def _check_fluid(given, fluid, sweep, sweep_member):
             if value is not None and not (lo <= value <= hi and not (key == "salinity"
                                                                       and value >= hi)):
                 raise ValueError(f"scene key fluid.{key} must lie in {text}; got {value:g}")
-    if fluid["top"] is not None and fluid["base"] is not None \
-            and not fluid["top"] < fluid["base"]:
-        raise ValueError(f"scene keys fluid.top ({fluid['top']:g} m) and fluid.base "
-                         f"({fluid['base']:g} m) must make an interval: top < base")
+    for top in sweep.get("fluid.top", [fluid["top"]]):          # every member's interval
+        for base in sweep.get("fluid.base", [fluid["base"]]):
+            if top is not None and base is not None and not top < base:
+                raise ValueError(f"scene keys fluid.top ({top:g} m) and fluid.base "
+                                 f"({base:g} m) must make an interval: top < base")
+    if any(h in ("co2", "methane") for h in carbons):
+        import importlib.util
+
+        if importlib.util.find_spec("CoolProp") is None:
+            raise ValueError(f"scene key fluid.hydrocarbon = {carbons[0]!r} needs CoolProp "
+                             "(reference equations of state): pip install 'rockcem[fluids]'")
 
 
 def _check_path_kind(given, path, base_dir):
@@ -540,9 +557,9 @@ def _validate_sweep(sweep, sections):
             raise ValueError(f"sweep {dotted} must be a non-empty list of values")
         kind = SCHEMA[section][key][1]
         values = [_check_value(section, key, v, kind) for v in values]
-        if key in names:
-            raise ValueError(f"two swept parameters share the name {key!r}")
-        names.add(key)
+        if sweep_dimension(dotted) in names:
+            raise ValueError(f"two swept parameters share the name {sweep_dimension(dotted)!r}")
+        names.add(sweep_dimension(dotted))
         out[dotted] = values
     return out
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from ._data import read_toml
 
-__all__ = ["variable_attrs", "variable_names", "build_dataset", "no_coordinate_fill"]
+__all__ = ["variable_attrs", "variable_names", "build_dataset", "no_coordinate_fill",
+           "sweep_dimension"]
 
 
 def variable_names() -> list[str]:
@@ -79,3 +80,16 @@ def no_coordinate_fill(ds):
     for name in ds.coords:
         ds[name].encoding["_FillValue"] = None
     return ds
+
+
+#: Dimension names a swept key cannot take (the Dataset's own): such a key is named with its
+#: section too (``fluid.model`` sweeps along ``fluid_model``).
+_RESERVED_DIMENSIONS = ("depth", "model", "horizon")
+
+
+def sweep_dimension(dotted: str) -> str:
+    """The Dataset dimension of a swept ``"section.key"``: the key (``path.gradient`` ->
+    ``gradient``), or ``<section>_<key>`` where the key is a dimension of its own
+    (``fluid.model`` -> ``fluid_model``)."""
+    section, _, key = dotted.rpartition(".")
+    return f"{section.rpartition('.')[2]}_{key}" if key in _RESERVED_DIMENSIONS else key

@@ -370,3 +370,33 @@ def test_md_member_takes_the_depths_fluid(result):
     np.testing.assert_allclose(b.K_sat, gassmann(b.K_dry.values, K_min, fluid.K, phi),
                                rtol=1e-10)
     assert np.all(b.K_sat.values != w.K_sat.values)
+
+
+def test_md_member_in_patches_of_brine_and_gas(result):
+    """Patchy saturation of the MD member: the P-wave compliance average of its brine- and its
+    gas-saturated rocks (each read back from the same MD runs), NaN where MD did not run."""
+
+    ds, path = result
+    scene = tiny(path)
+    md_table = {k: v for k, v in scene.sections["models.md"].items() if v is not None}
+
+    def run(fluid):
+        return run_scene(scene_from_dict({
+            "name": "tiny_md", "lithology": "sandstone",
+            "path": {"max_depth": 4000.0, "depth_step": 100.0},
+            "sandstone": {"start_temperature": 70.0}, "fluid": fluid,
+            "models": {"hs_gassmann": {}, "md": md_table}})).sel(model="md")
+
+    base = {"model": "batzle_wang", "hydrocarbon": "gas", "top": 2000.0, "base": 4000.0}
+    patchy = run({**base, "saturation": 0.6, "mixing": "patchy"})
+    brine = run({"model": "batzle_wang"})
+    gas = run({**base, "saturation": 1.0})
+    ran = np.isfinite(ds.vp.sel(model="md").values)
+    assert np.isnan(patchy.vp.values[~ran]).all()
+    inside = ran & (ds.depth.values >= 2000.0)
+    b, g, p = (d.isel(depth=inside) for d in (brine, gas, patchy))
+    M = 1.0 / (0.4 / (b.K_sat + 4 / 3 * b.G_sat) + 0.6 / (g.K_sat + 4 / 3 * g.G_sat))
+    np.testing.assert_allclose(p.K_sat + 4 / 3 * p.G_sat, M, rtol=1e-10)
+    rho = 0.4 * b.md_density + 0.6 * g.md_density
+    np.testing.assert_allclose(p.md_density, rho, rtol=1e-12)
+    np.testing.assert_allclose(p.vp, np.sqrt(M / rho), rtol=1e-10)

@@ -224,3 +224,57 @@ def test_each_horizon_gets_its_own_present_day_brine():
     b = pf.brine(ds.temperature.values, ds.pressure_pore.values + STANDARD_ATMOSPHERE, 0.1)
     np.testing.assert_allclose(ds.fluid_bulk_modulus.values, b.K, rtol=1e-12)
     assert ds.fluid_bulk_modulus.dims == ("depth",) and "horizon" in ds.coords
+
+
+def test_sweeping_the_fluid_model_is_its_own_dimension(water, brine):
+    """``fluid.model`` sweeps along ``fluid_model``: ``model`` is the models' dimension (the
+    sweep failed after running every member)."""
+    raw = {**BASE, "fluid": {"salinity": 0.05},
+           "sweep": {"fluid.model": ["constant", "batzle_wang"]}}
+    ds = run_scene(scene_from_dict(raw))
+    assert ds.vp.dims == ("fluid_model", "model", "depth")
+    np.testing.assert_array_equal(ds.vp.sel(fluid_model="constant").values, water.vp.values)
+    np.testing.assert_array_equal(ds.vp.sel(fluid_model="batzle_wang").values, brine.vp.values)
+
+
+def test_a_sweep_over_the_fluid_says_so_and_the_template_takes_the_members_brine():
+    import matplotlib.pyplot as plt
+
+    from rockcem.plots import rock_physics_template
+
+    raw = {**BASE, "fluid": {"model": "batzle_wang", "hydrocarbon": "gas", "saturation": 0.8,
+                             "top": 2000.0, "base": 3000.0},
+           "sweep": {"fluid.salinity": [0.0, 0.2]}}
+    ds = run_scene(scene_from_dict(raw))
+    text = ds.attrs["pore_fluid"]
+    assert text.startswith("varies over the sweep:")
+    assert "[salinity = 0.0] Batzle & Wang brine, salinity 0;" in text
+    assert "[salinity = 0.2] Batzle & Wang brine, salinity 0.2;" in text
+    assert "brine_bulk_modulus" not in ds.attrs          # no one brine for every member
+    one = ds.sel(salinity=0.2)
+    brine = one.fluid_bulk_modulus.values[one.hydrocarbon_saturation.values == 0.0]
+    fig = rock_physics_template(one)
+    title = " ".join(t.get_text() for t in fig.findobj(plt.Text))
+    assert "brine (median)" in title
+    plt.close(fig)
+    assert float(np.median(brine)) > 3.0                 # the 20 % NaCl brine, not the fresh
+    with pytest.raises(ValueError, match="brine differs between its sweep members"):
+        rock_physics_template(ds.drop_vars(["fluid_bulk_modulus"]))
+
+
+@pytest.mark.parametrize("fluid,sweep,message", [
+    ({"gas_gravity": 0.7}, {"fluid.hydrocarbon": ["co2", "methane"]},
+     r"does not apply to fluid.hydrocarbon swept over \['co2', 'methane'\]"),
+    ({"hydrocarbon": "gas", "saturation": 0.5, "top": 2000.0}, {"fluid.base": [1500.0, 3000.0]},
+     r"fluid.top \(2000 m\) and fluid.base \(1500 m\) must make an interval"),
+])
+def test_swept_fluid_keys_are_checked_at_load(fluid, sweep, message):
+    with pytest.raises(ValueError, match=message):
+        scene_from_dict({**BASE, "fluid": fluid, "sweep": sweep})
+
+
+def test_the_catalogue_fluid_and_batzle_wang_brine_are_not_both_given():
+    with pytest.raises(ValueError, match="materials.fluid = 'vacuum' does not apply to "
+                                         "fluid.model = 'batzle_wang'"):
+        scene_from_dict({**BASE, "materials": {"fluid": "vacuum"},
+                         "fluid": {"model": "batzle_wang"}})

@@ -283,10 +283,24 @@ def _material(value, kind: str, ds, attr: str):
             raise ValueError(f"{attr} is not given and the Dataset has no attribute {attr!r}; "
                              f"pass {attr}= (a catalogue name or a {kind})")
         value = ds.attrs[attr]
-        if attr == "fluid" and value == "brine" and "brine_bulk_modulus" in ds.attrs:
+        if attr == "fluid" and value == "brine":
             # A scene's Batzle-Wang brine, which varies with depth: its median over the profile.
-            return Fluid(float(ds.attrs["brine_bulk_modulus"]), float(ds.attrs["brine_density"]),
-                         name="brine (median)")
+            if "brine_bulk_modulus" in ds.attrs:
+                return Fluid(float(ds.attrs["brine_bulk_modulus"]),
+                             float(ds.attrs["brine_density"]), name="brine (median)")
+            # A sweep over the brine: the member shown, from its own fluid variables (brine
+            # where no hydrocarbon shares the pores).
+            have = all(v in ds.data_vars and ds[v].dims == ("depth",)
+                       for v in ("fluid_bulk_modulus", "fluid_density"))
+            if not have:
+                raise ValueError("the Dataset's brine differs between its sweep members: select "
+                                 "one member (--select, ds.sel) or pass fluid= (a catalogue "
+                                 "name or a rockcem.materials.Fluid) for the template lines")
+            brine = ds["hydrocarbon_saturation"].values == 0.0 \
+                if "hydrocarbon_saturation" in ds.data_vars else True
+            K = np.asarray(ds["fluid_bulk_modulus"].values)[brine]
+            rho = np.asarray(ds["fluid_density"].values)[brine]
+            return Fluid(float(np.median(K)), float(np.median(rho)), name="brine (median)")
     if isinstance(value, str):
         return mineral(value) if kind == "Mineral" else fluid(value)
     if isinstance(value, Mineral if kind == "Mineral" else Fluid):

@@ -150,7 +150,10 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
         axes[0].set_ylabel(_label("depth", ds))
         axes[0].set_ylim(depth.max(), depth.min())          # depth increases downward
         flagged = flagged_intervals(ds.attrs.get("validity_warnings", ""))
+        half = 0.006 * (depth.max() - depth.min())      # a single flagged depth: a thin band
         for top, base in flagged:           # where a model runs outside its source's range
+            if base - top < 2.0 * half:
+                top, base = 0.5 * (top + base) - half, 0.5 * (top + base) + half
             for ax in axes:
                 ax.axhspan(top, base, color="0.55", alpha=0.12, linewidth=0, zorder=0.5,
                            gid="flagged")
@@ -161,14 +164,14 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
         shade = [Patch(color="0.55", alpha=0.25, linewidth=0,
                        label="flagged (validity_warnings)")] if flagged else []
         if any("model" in da.dims for da in arrays):
-            fig.legend(handles=shade + [Line2D([], [], color=_model_style(m, i, len(models))["color"],
-                                       marker=_model_marker(m, i), linestyle="none",
-                                       label=_model_label(m)) if m in points else
-                                Line2D([], [], **{k: v for k, v in
-                                                  _model_style(m, i, len(models)).items()
-                                                  if k in ("color", "linestyle", "linewidth")},
-                                       label=_model_label(m))
-                                for i, m in enumerate(models)],
+            handles = [Line2D([], [], color=_model_style(m, i, len(models))["color"],
+                              marker=_model_marker(m, i), linestyle="none",
+                              label=_model_label(m)) if m in points else
+                       Line2D([], [], **{k: v for k, v in _model_style(m, i, len(models)).items()
+                                         if k in ("color", "linestyle", "linewidth")},
+                              label=_model_label(m))
+                       for i, m in enumerate(models)]
+            fig.legend(handles=shade + handles,
                        loc="outside upper center", ncols=min(len(models) + len(shade),
                                                              4 if len(variables) > 2 else 2))
         elif shade:
@@ -183,19 +186,23 @@ def flagged_intervals(warnings: str) -> list[tuple[float, float]]:
     which starts with ``[``, is left out, as is a line without an interval).
 
     >>> flagged_intervals("Model 1 (Krief frame) at 0–1479 m: porosity above 0.324\n"
-    ...                   "[gradient = 20] quartz cement at 4455 m: overfill")
-    [(0.0, 1479.0)]
+    ...                   "[gradient = 20] quartz cement at 4455 m: overfill\n"
+    ...                   "MD model at 1000, 2500 m: burial's cement overflows")
+    [(0.0, 1479.0), (1000.0, 1000.0), (2500.0, 2500.0)]
     """
     import re
 
+    number = r"-?\d[\d.e+]*"
+    item = rf"{number}(?:–{number})?"
     out = []
     for line in warnings.splitlines():
         if line.startswith("["):
             continue
-        match = re.search(r" at (-?\d[\d.e+]*)(?:–(-?\d[\d.e+]*))? m[:,]", line)
-        if match:
-            top = float(match.group(1))
-            out.append((top, float(match.group(2)) if match.group(2) else top))
+        match = re.search(rf" at ({item}(?:, {item})*) m[:,]", line)
+        if match:                        # "0–1479", or a list of depths "1000, 2000, 3000"
+            for part in match.group(1).split(", "):
+                top, _, base = part.partition("–")
+                out.append((float(top), float(base) if base else float(top)))
     return out
 
 

@@ -15,15 +15,15 @@ __all__ = ["co2", "methane"]
 # --- reference equations of state (CoolProp) -----------------------------------------------------
 
 def _coolprop(name, fluid, temperature, pressure):
+    T = check_range("temperature", as_array("temperature", temperature),
+                    -ZERO_CELSIUS_IN_KELVIN, 1e4, low_open=True)
+    P = check_range("pressure", as_array("pressure", pressure), 0.0, 1e4, low_open=True)
+    T, P = broadcast(temperature=T, pressure=P)
     try:
         import CoolProp.CoolProp as CP
     except ImportError:
         raise ImportError(f"{name}() needs CoolProp (reference equations of state): "
                           f"{_HINT}") from None
-    T = check_range("temperature", as_array("temperature", temperature),
-                    -ZERO_CELSIUS_IN_KELVIN, 1e4, low_open=True)
-    P = check_range("pressure", as_array("pressure", pressure), 0.0, 1e4, low_open=True)
-    T, P = broadcast(temperature=T, pressure=P)
     state = CP.AbstractState("HEOS", fluid)
     rho = np.empty(T.shape)
     c = np.empty(T.shape)

@@ -126,3 +126,18 @@ def test_run_md_scene_refuses_a_dead_address_before_any_pack(tmp_path):
     with pytest.raises(ValueError, match="no dask scheduler answers"):
         run_md_scene(scene, workdir=tmp_path / "w", scheduler=f"127.0.0.1:{_free_port()}")
     assert not (tmp_path / "w").exists()
+
+
+def test_check_works_inside_a_running_event_loop_and_for_tls(garbage_server):
+    """A notebook runs its cells inside an event loop; asyncio.run() refused there. A tls://
+    address is checked as far as its socket (dask's TLS handshake needs its security config)."""
+    import asyncio
+
+    async def in_a_loop():
+        with pytest.raises(ValueError, match="not a dask scheduler"):
+            _check_scheduler(f"tcp://127.0.0.1:{garbage_server}")
+        _check_scheduler(f"tls://127.0.0.1:{garbage_server}")       # listening: passes
+        with pytest.raises(ValueError, match="no dask scheduler answers"):
+            _check_scheduler(f"tls://127.0.0.1:{_free_port()}")
+
+    asyncio.run(in_a_loop())
