@@ -171,7 +171,7 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                          if k in ("color", "linestyle", "linewidth")},
                               label=_model_label(m))
                        for i, m in enumerate(models)]
-            fig.legend(handles=shade + handles,
+            fig.legend(handles=handles + shade,
                        loc="outside upper center", ncols=min(len(models) + len(shade),
                                                              4 if len(variables) > 2 else 2))
         elif shade:
