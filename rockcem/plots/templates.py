@@ -447,13 +447,21 @@ def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):
     cement_colour = [cmap(0.45 + 0.5 * j / max(len(phip) - 1, 1)) for j in range(len(phip))]
     halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
     template = [Line2D([], [], color=_INK, linewidth=1.0, label="constant porosity $\\phi$")]
-    for j, c in enumerate(phip):
-        if ok[:, j].any():
-            ax.plot(impedance[:, j], ratio[:, j], color=cement_colour[j], linewidth=1.2,
-                    linestyle="--", marker="." if ok[:, j].sum() == 1 else "",
-                    gid=f"cement_fraction={c:g}", zorder=3)
-            template.append(Line2D([], [], color=cement_colour[j], linewidth=1.2,
-                                   linestyle="--", label=f"cement fraction $\\phi_p$ = {c:g}"))
+    drawn = [j for j in range(len(phip)) if ok[:, j].any()]
+    # Past six lines, the middle ones share one legend entry (a sandstone's lines run on to its
+    # largest cement fraction in steps of 0.04).
+    middle = drawn[5:-1] if len(drawn) > 6 else []
+    for j in drawn:
+        c = phip[j]
+        ax.plot(impedance[:, j], ratio[:, j], color=cement_colour[j], linewidth=1.2,
+                linestyle="--", marker="." if ok[:, j].sum() == 1 else "",
+                gid=f"cement_fraction={c:g}", zorder=3)
+        if j in middle and j != middle[0]:
+            continue
+        text = (f"cement fraction $\\phi_p$ = {phip[middle[0]]:g} … {phip[middle[-1]]:g}"
+                if middle and j == middle[0] else f"cement fraction $\\phi_p$ = {c:g}")
+        template.append(Line2D([], [], color=cement_colour[j], linewidth=1.2, linestyle="--",
+                               label=text))
     leftmost = np.nanargmax(phi * ok.any(axis=1))
     for i, p in enumerate(phi):
         if ok[i].any():
