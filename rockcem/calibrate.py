@@ -94,7 +94,11 @@ class FitResult:
 
 
 def _rms(pred, obs):
-    return {k: float(np.sqrt(np.mean((pred[k] / obs[k] - 1.0) ** 2))) for k in obs}
+    """Root-mean-square misfit per quantity: relative (predicted / observed - 1) where every
+    observation is > 0, else absolute (predicted - observed)."""
+    return {k: float(np.sqrt(np.mean((pred[k] / obs[k] - 1.0) ** 2)))
+            if np.all(obs[k] > 0.0) else float(np.sqrt(np.mean((pred[k] - obs[k]) ** 2)))
+            for k in obs}
 
 
 def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
@@ -122,7 +126,8 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
         ``predict(**params)`` returns a mapping with the same keys as ``observed`` (e.g.
         ``{"vp": ..., "vs": ...}``), arrays of the observed shape.
     observed : mapping
-        Measured values (e.g. velocities in km/s), each array ``> 0``.
+        Measured values (e.g. velocities in km/s), each array finite, and ``> 0`` for relative
+        residuals (no ``errors``); with ``errors`` a value may be 0 or below (a log porosity).
     parameters : mapping
         ``{name: (initial, lower, upper)}`` for each free parameter, with
         ``lower <= initial <= upper``.
@@ -137,9 +142,12 @@ def fit_parameters(predict: Callable[..., Mapping[str, np.ndarray]],
     Returns
     -------
     FitResult
-        ``misfit`` is the root-mean-square relative misfit either way.
+        ``misfit`` is the root-mean-square relative misfit either way, for a quantity whose
+        observations are all ``> 0``; else its absolute misfit (predicted - observed).
     """
-    obs = {k: check_positive(k, as_array(k, v)) for k, v in observed.items()}
+    obs = {k: check_positive(k, as_array(k, v)) if errors is None else
+           check_range(k, as_array(k, v), -np.inf, np.inf, low_open=True, high_open=True)
+           for k, v in observed.items()}
     if not obs:
         raise ValueError("observed must name at least one measured quantity")
     if not parameters:

@@ -410,14 +410,12 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     if short:
         raise ValueError(f"log {short[0]} has {points[short[0]]} samples in {lo:g}-{hi:g} m")
     observed = {v: well[v].values[masks[v]] for v in variables}
-    for v, values in observed.items():
-        if np.any(values <= 0.0):
+    for v, values in observed.items():        # porosity's misfit is absolute: any value
+        if _relative(v) and np.any(values <= 0.0):
             at = float(z[masks[v]][np.flatnonzero(values <= 0.0)[0]])
-            why = "its misfit is relative" if _relative(v) else \
-                "rockcem.calibrate.fit_parameters takes positive observations"
             raise ValueError(f"log {v} is {values[values <= 0.0][0]:g} at {at:g} m; the fit "
-                             f"needs positive values ({why}): narrow the depth window or "
-                             "leave that log out")
+                             "needs positive values (its misfit is relative): narrow the "
+                             "depth window or leave that log out")
 
     def trial(values):
         """The reduced scene at trial values, set without validating the whole scene again
