@@ -83,7 +83,7 @@ def _materials(grain, cement):
     return g, md.CementMaterial(float(vp), float(vs), cement.rho * 1e3)
 
 
-def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, fluid,
+def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, fluids,
              grain_size, params, *, workdir, scheduler=None, jobs=1, progress=False):
     """Run the MD members of a scene and saturate them.
 
@@ -92,7 +92,10 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     depth, present_stress, max_stress, cement_fraction : ndarray, shape (n,)
         The profile: depth (m), present and largest effective stress (MPa), cement fraction.
     grain, cement : rockcem.materials.Mineral
-    fluid : rockcem.materials.Fluid
+    fluids : sequence of rockcem.materials.Fluid
+        The pore fluids to saturate the MD members with, one saturated rock each (numbers, or
+        one value per profile depth): the scene's fluid, or the patches of patchy saturation;
+        the MD members run once for all of them.
     grain_size : float
         Grain diameter, mm.
     params : dict
@@ -104,10 +107,11 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
 
     Returns
     -------
-    (dict, dict, dict)
-        Per model label a namespace of ``K_dry, G_dry, K_sat, G_sat, vp, vs`` (GPa, km/s;
-        NaN off the MD depths); the per-depth diagnostics; per label the per-model
-        diagnostics (:data:`MD_DEPTH_VARIABLES`, :data:`MD_MODEL_VARIABLES`).
+    (list of dict, dict, list of dict)
+        Per fluid, per model label a namespace of ``K_dry, G_dry, K_sat, G_sat, vp, vs,
+        density`` (GPa, km/s, g/cm³; NaN off the MD depths); the per-depth diagnostics; per
+        fluid, per label the per-model diagnostics (:data:`MD_DEPTH_VARIABLES`,
+        :data:`MD_MODEL_VARIABLES`).
     """
     from md.along_depth import carry_down
     from md.convergence import resolution_error
@@ -171,56 +175,61 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     beta_c = (phi_pack - phi) / (1.0 - phi)
     mineral = hashin_shtrikman_average([grain.K, cement.K], [grain.G, cement.G],
                                        np.stack([1.0 - beta_c, beta_c], axis=-1))
-    # Saturated bulk density of the core window (eq. 24 of Carcione et al. 2022) with the
-    # porosity Gassmann is given (the engine's sample density also counts the end layers).
-    # The fluid at the MD depths (a number, or one value per profile depth).
-    K_fluid, rho_fluid = (np.asarray(v)[idx] if np.ndim(v) else v for v in (fluid.K, fluid.rho))
-    rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * rho_fluid
+    def saturate(fluid):
+        """The MD members saturated with ``fluid``: (models, per-model diagnostics)."""
+        # Saturated bulk density of the core window (eq. 24 of Carcione et al. 2022) with the
+        # porosity Gassmann is given (the engine's sample density also counts the end layers).
+        # The fluid at the MD depths (a number, or one value per profile depth).
+        K_fluid, rho_fluid = (np.asarray(v)[idx] if np.ndim(v) else v for v in (fluid.K, fluid.rho))
+        rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * rho_fluid
 
-    def velocities(M, G):
-        # The pack is transversely isotropic (compacted along z): M is its vertical C33 and G
-        # its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack anisotropic
-        # Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
-        K_dry = M - 4.0 / 3.0 * G
-        K_sat = gassmann(K_dry, mineral.K, K_fluid, phi)
-        return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))
+        def velocities(M, G):
+            # The pack is transversely isotropic (compacted along z): M is its vertical C33 and G
+            # its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack anisotropic
+            # Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
+            K_dry = M - 4.0 / 3.0 * G
+            K_sat = gassmann(K_dry, mineral.K, K_fluid, phi)
+            return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))
 
-    count = len(runs)
-    models, per_model = {}, {}
-    for label, scheme in zip(md_labels(params), params["schemes"]):
-        K_dry, G_dry, K_sat, vp, vs = velocities(stack("p_modulus", scheme) / 1e9,
-                                                 stack("shear_modulus", scheme) / 1e9)
-        omegas = [w for w in (params["resolution"], params["resolution_check"],
-                              params["resolution_check2"]) if w]
-        if len(omegas) > 1:
-            # Richardson estimates on the velocities themselves (the P and S moduli of one
-            # resolution change together; md.convergence): first order from two resolutions,
-            # the observed order from three where they are in the asymptotic range; averaged
-            # over the samples, asymptotic where every sample is.
-            coarse = [velocities(stack(f"p_modulus_{c}", scheme) / 1e9,
-                                 stack(f"shear_modulus_{c}", scheme) / 1e9)[3:]
-                      for c in ("check", "check2")[:len(omegas) - 1]]
-            vp_res, vp_asym = resolution_error(omegas, np.stack([vp] + [c[0] for c in coarse]))
-            vs_res, vs_asym = resolution_error(omegas, np.stack([vs] + [c[1] for c in coarse]))
-            vp_res, vs_res = vp_res.mean(0), vs_res.mean(0)
-            asym = (vp_asym & vs_asym).all(0).astype(float) if len(omegas) == 3 \
-                else np.full(idx.size, np.nan)          # no three-point check made
-        else:                                   # no coarser resolution: no error estimate
-            vp_res = vs_res = asym = np.full(idx.size, np.nan)
-        # Sample-size error: standard error of the mean over the independent packs.
-        vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
-                          np.full(idx.size, np.nan) for v in (vp, vs))
-        models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
-                                        K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
-                                        vp=full(vp.mean(0)), vs=full(vs.mean(0)),
-                                        density=full(rho.mean(0)))
-        per_model[label] = {"vp_error_resolution": full(vp_res),
-                            "vs_error_resolution": full(vs_res),
-                            "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
-                            "md_resolution_asymptotic": full(asym),
-                            "md_density": full(rho.mean(0)),
-                            "md_wall_time": full(stack("wall_time", scheme).sum(0))}
-    return models, per_depth, per_model
+        count = len(runs)
+        models, per_model = {}, {}
+        for label, scheme in zip(md_labels(params), params["schemes"]):
+            K_dry, G_dry, K_sat, vp, vs = velocities(stack("p_modulus", scheme) / 1e9,
+                                                     stack("shear_modulus", scheme) / 1e9)
+            omegas = [w for w in (params["resolution"], params["resolution_check"],
+                                  params["resolution_check2"]) if w]
+            if len(omegas) > 1:
+                # Richardson estimates on the velocities themselves (the P and S moduli of one
+                # resolution change together; md.convergence): first order from two resolutions,
+                # the observed order from three where they are in the asymptotic range; averaged
+                # over the samples, asymptotic where every sample is.
+                coarse = [velocities(stack(f"p_modulus_{c}", scheme) / 1e9,
+                                     stack(f"shear_modulus_{c}", scheme) / 1e9)[3:]
+                          for c in ("check", "check2")[:len(omegas) - 1]]
+                vp_res, vp_asym = resolution_error(omegas, np.stack([vp] + [c[0] for c in coarse]))
+                vs_res, vs_asym = resolution_error(omegas, np.stack([vs] + [c[1] for c in coarse]))
+                vp_res, vs_res = vp_res.mean(0), vs_res.mean(0)
+                asym = (vp_asym & vs_asym).all(0).astype(float) if len(omegas) == 3 \
+                    else np.full(idx.size, np.nan)          # no three-point check made
+            else:                                   # no coarser resolution: no error estimate
+                vp_res = vs_res = asym = np.full(idx.size, np.nan)
+            # Sample-size error: standard error of the mean over the independent packs.
+            vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
+                              np.full(idx.size, np.nan) for v in (vp, vs))
+            models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
+                                            K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
+                                            vp=full(vp.mean(0)), vs=full(vs.mean(0)),
+                                            density=full(rho.mean(0)))
+            per_model[label] = {"vp_error_resolution": full(vp_res),
+                                "vs_error_resolution": full(vs_res),
+                                "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
+                                "md_resolution_asymptotic": full(asym),
+                                "md_density": full(rho.mean(0)),
+                                "md_wall_time": full(stack("wall_time", scheme).sum(0))}
+        return models, per_model
+
+    saturated = [saturate(f) for f in fluids]
+    return [m for m, _ in saturated], per_depth, [d for _, d in saturated]
 
 
 def resolve_checks(params) -> dict:

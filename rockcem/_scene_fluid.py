@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SceneFluid", "scene_fluid", "patchy_rock"]
+__all__ = ["SceneFluid", "scene_fluid", "fluid_outputs", "patchy_rock"]
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,7 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
     kind = section["hydrocarbon"]
     S = np.zeros(depth.shape)
     if kind == "none":
-        return SceneFluid(brine, brine, None, S, _outputs(brine, S), warnings)
+        return SceneFluid(brine, brine, None, S, fluid_outputs(brine, S), warnings)
     top = section["top"] if section["top"] is not None else -np.inf
     base = section["base"] if section["base"] is not None else np.inf
     inside = (depth >= top) & (depth <= base)
@@ -104,29 +104,25 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
         m = pf.wood(np.stack([1.0 - S, S], axis=-1), np.stack([brine.K, hydrocarbon.K], -1),
                     np.stack([brine.rho, hydrocarbon.rho], -1))
     mixed = Fluid(m.K, m.rho, name=f"brine and {kind} ({mixing})")
-    return SceneFluid(brine, mixed, None, S, _outputs(mixed, S), warnings)
+    return SceneFluid(brine, mixed, None, S, fluid_outputs(mixed, S), warnings)
 
 
-def _outputs(fluid, saturation):
-    K, rho = np.asarray(fluid.K, dtype=float), np.asarray(fluid.rho, dtype=float)
-    vp = np.sqrt(np.divide(K, rho, out=np.zeros_like(K), where=rho > 0.0))
+def fluid_outputs(fluid, saturation):
+    """The fluid variables per depth: ``fluid`` (numbers or arrays) broadcast to the shape of
+    ``saturation``, the hydrocarbon's."""
+    shape = np.shape(saturation)
+    K = np.broadcast_to(np.asarray(fluid.K, dtype=float), shape)
+    rho = np.broadcast_to(np.asarray(fluid.rho, dtype=float), shape)
+    vp = np.sqrt(np.divide(K, rho, out=np.zeros(shape), where=rho > 0.0))
     return {"fluid_density": rho, "fluid_bulk_modulus": K, "fluid_velocity": vp,
             "hydrocarbon_saturation": saturation}
 
 
-class _named:
+def _named(what):
     """Prefix a ValueError with the scene key that chose the fluid."""
+    from .validation import prefixed_errors
 
-    def __init__(self, what):
-        self.what = what
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, kind, exc, tb):
-        if kind is ValueError:
-            raise ValueError(f"scene section [fluid] ({self.what}): {exc}") from None
-        return False
+    return prefixed_errors(f"scene section [fluid] ({what})")
 
 
 def patchy_rock(brine_rock, hydrocarbon_rock, saturation):

@@ -67,9 +67,9 @@ def _comma_policy():
 
 
 class _Las:
-    """A LAS file for :func:`rockcem.wells._read`: header from lasio; data columns read by lasio, in pieces
-    of about 4 MB of text for an unwrapped LAS 1.2/2.0 file (memory a few times the file,
-    not 15), in one piece otherwise."""
+    """A LAS file for :func:`rockcem.wells._read`: header from lasio; data columns read by
+    lasio, in pieces of about 4 MB of text for an unwrapped LAS 1.2/2.0 file (memory a few
+    times the file, not 15), in one piece otherwise."""
 
     def __init__(self, path):
         self.path, self.source = path, path.name
@@ -249,7 +249,8 @@ _HEADER = re.compile(r"^\s*([^\s(\[]+)\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*$")
 
 
 class _Csv:
-    """A CSV well log for :func:`rockcem.wells._read`: units in the header (``DEPT (ft),DT (us/ft)``)."""
+    """A CSV well log for :func:`rockcem.wells._read`: units in the header
+    (``DEPT (ft),DT (us/ft)``)."""
 
     wrapped, delimiter, version, well = False, "comma", "", ""
 

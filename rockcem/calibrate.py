@@ -403,25 +403,13 @@ def load_calibration(source, *, base_dir=None) -> dict:
     ValueError
         If the file is missing, not TOML, or not a valid calibration file.
     """
+    from ._data import find_file
+
     given = Path(str(source))
-    places = [("", given)] if given.is_absolute() else (
-        ([("the scene file's folder", Path(base_dir) / given)] if base_dir is not None else [])
-        + [("the working directory", Path.cwd() / given)])
     shipped = shipped_calibrations()
-    if not given.is_absolute() and not given.suffix and len(given.parts) == 1 \
-            and str(source) in shipped:
-        places.append(("shipped", shipped[str(source)]))
-    candidates = []
-    for where, p in places:                 # the scene's folder may be the working directory
-        same = next((k for k, (_, q) in enumerate(candidates) if q.resolve() == p.resolve()), None)
-        if same is None:
-            candidates.append((where, p))
-        else:
-            candidates[same] = (candidates[same][0] + " and " + where, candidates[same][1])
-    path = next((p for _, p in candidates if p.is_file()), None)
+    bare = not given.suffix and len(given.parts) == 1 and str(source) in shipped
+    path, looked = find_file(source, base_dir, shipped[str(source)] if bare else None)
     if path is None:
-        looked = "; ".join(f"{p.resolve()} ({where})" if where else str(p)
-                           for where, p in candidates)
         names = f"; shipped calibrations: {', '.join(shipped)}" if shipped else ""
         raise ValueError(f"calibration file {str(source)!r} not found (looked for {looked})"
                          f"{names}")

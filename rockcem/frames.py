@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
-                          check_modulus, check_positive, check_range, sum_phases)
+                          check_modulus, check_range, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli
 

@@ -131,25 +131,11 @@ def _resolve(name, base_dir):
     """The table file: an absolute path; or relative to the scene file's folder, then to the
     working directory; or, a bare file name, one shipped in ``datasets/wells/`` (so a scene
     copied out of the shipped ones keeps its table)."""
-    from ._data import data_path
+    from ._data import data_path, find_file
 
-    given = Path(name)
-    places = [("", given)] if given.is_absolute() else (
-        ([("the scene file's folder", Path(base_dir) / given)] if base_dir is not None else [])
-        + [("the working directory", Path.cwd() / given)])
-    if not given.is_absolute() and len(given.parts) == 1:
-        places.append(("the shipped data", data_path("wells") / given))
-    unique = []
-    for where, p in places:                 # the scene's folder may be the working directory
-        same = next((k for k, (_, q) in enumerate(unique) if q.resolve() == p.resolve()), None)
-        if same is None:
-            unique.append((where, p))
-        else:
-            unique[same] = (unique[same][0] + " and " + where, unique[same][1])
-    found = next((p for _, p in unique if p.is_file()), None)
+    bare = len(Path(name).parts) == 1
+    found, looked = find_file(name, base_dir, data_path("wells") / name if bare else None)
     if found is None:
-        looked = "; ".join(f"{p.resolve()} ({where})" if where else str(p)
-                           for where, p in unique)
         raise ValueError(f"scene key path.table: file {name!r} not found; looked for {looked}")
     return found
 

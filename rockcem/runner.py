@@ -8,7 +8,6 @@ scene asking for one model computes one model.
 
 from __future__ import annotations
 
-import contextlib
 import datetime
 import itertools
 import json
@@ -29,13 +28,11 @@ _MODEL_LABELS_LONG = {
 }
 
 
-@contextlib.contextmanager
 def _section(name):
     """Prefix a ValueError raised while evaluating a scene section with the section's name."""
-    try:
-        yield
-    except ValueError as exc:
-        raise ValueError(f"scene section [{name}]: {exc}") from None
+    from .validation import prefixed_errors
+
+    return prefixed_errors(f"scene section [{name}]")
 
 
 class _Pipeline:
@@ -137,18 +134,13 @@ class _Pipeline:
         """The pore fluid per present-day depth (:mod:`rockcem._scene_fluid`); the catalogue
         fluid itself, as one number, where ``[fluid]`` keeps it and adds no hydrocarbon (nothing
         of the path is computed for it then)."""
-        from ._scene_fluid import SceneFluid, scene_fluid
+        from ._scene_fluid import SceneFluid, fluid_outputs, scene_fluid
 
         f = self.sec["fluid"]
         if f["model"] == "constant" and f["hydrocarbon"] == "none":
             fluid = self.materials[1]
-            shape = np.shape(self.now(self.path.depth))
-            outputs = {"fluid_density": np.full(shape, fluid.rho),
-                       "fluid_bulk_modulus": np.full(shape, fluid.K),
-                       "fluid_velocity": np.full(shape, np.sqrt(fluid.K / fluid.rho)
-                                                 if fluid.rho > 0 else 0.0),
-                       "hydrocarbon_saturation": np.zeros(shape)}
-            return SceneFluid(fluid, fluid, None, outputs["hydrocarbon_saturation"], outputs, [])
+            S = np.zeros(np.shape(self.now(self.path.depth)))
+            return SceneFluid(fluid, fluid, None, S, fluid_outputs(fluid, S), [])
         return scene_fluid(f, self.sec["materials"]["fluid"], self.now(self.path.depth),
                            self.now(self.path.temperature), self.pressures.pore)
 
@@ -179,34 +171,29 @@ class _Pipeline:
     def md(self):
         """The MD members: ``(models, per-depth diagnostics, per-model diagnostics)``; with
         patches of brine and hydrocarbon, each member's rock is the patchy combination of its
-        two saturated rocks (the MD runs themselves are shared: the fluid enters by Gassmann)."""
-        from ._scene_fluid import patchy_rock
-
-        fluid = self.pore_fluid
-        if fluid.patches is None:
-            return self._md(fluid.fluid)
-        (brine, per_depth, per_model), (other, _, other_model) = (self._md(f)
-                                                                   for f in fluid.patches)
-        S = fluid.saturation
-        for k in per_model:                  # the density the patchy velocities were made with
-            per_model[k]["md_density"] = (1.0 - S) * per_model[k]["md_density"] \
-                + S * other_model[k]["md_density"]
-        return ({k: patchy_rock(brine[k], other[k], S) for k in brine}, per_depth, per_model)
-
-    def _md(self, fluid):
+        two saturated rocks (the MD runs once for both: the fluid enters by Gassmann)."""
         from pathlib import Path
 
         from ._md_backend import md_model
+        from ._scene_fluid import patchy_rock
 
+        fluid = self.pore_fluid
         minerals = self.materials[0]
         out = Path(self.scene.output)
         with _section("models.md"):
-            return md_model(self.now(self.path.depth), self.pressures.effective,
-                            self.pressures.max_effective, self.sandstone.cement_fraction,
-                            minerals[0], minerals[1], fluid, self.lith["grain_size"],
-                            self.sec["models.md"],
-                            workdir=out.with_name(out.stem + "_md_work"),
-                            scheduler=self.scheduler, jobs=self.jobs, progress=self.progress)
+            models, per_depth, per_model = md_model(
+                self.now(self.path.depth), self.pressures.effective,
+                self.pressures.max_effective, self.sandstone.cement_fraction, minerals[0],
+                minerals[1], fluid.patches or [fluid.fluid], self.lith["grain_size"],
+                self.sec["models.md"], workdir=out.with_name(out.stem + "_md_work"),
+                scheduler=self.scheduler, jobs=self.jobs, progress=self.progress)
+        if fluid.patches is None:
+            return models[0], per_depth, per_model[0]
+        (brine, other), S = models, fluid.saturation
+        for k, diagnostics in per_model[0].items():   # the patchy velocities' density
+            diagnostics["md_density"] = (1.0 - S) * diagnostics["md_density"] \
+                + S * per_model[1][k]["md_density"]
+        return ({k: patchy_rock(brine[k], other[k], S) for k in brine}, per_depth, per_model[0])
 
     def model(self, label):
         fluid = self.pore_fluid

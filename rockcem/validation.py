@@ -8,9 +8,12 @@ build on; it imports none of them, nor the scene layer.
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 __all__ = ["MAX_DENSITY", "MIN_DENSITY", "MAX_MODULUS", "MIN_MODULUS", "as_array", "as_scalar",
+           "prefixed_errors",
            "check_range", "check_positive", "check_modulus", "check_fractions", "broadcast",
            "broadcast_phases", "stack_phases", "sum_phases", "max_phases", "min_phases"]
 
@@ -181,3 +184,13 @@ def min_phases(a: np.ndarray) -> np.ndarray:
     for i in range(1, a.shape[-1]):
         np.minimum(out, a[..., i], out=out)
     return out
+
+
+@contextlib.contextmanager
+def prefixed_errors(prefix: str):
+    """Prefix a ``ValueError`` raised inside the block with ``prefix`` and ``": "`` (the scene
+    section or key that chose what failed), without the traceback of the original."""
+    try:
+        yield
+    except ValueError as exc:
+        raise ValueError(f"{prefix}: {exc}") from None

@@ -400,3 +400,7 @@ def test_md_member_in_patches_of_brine_and_gas(result):
     rho = 0.4 * b.md_density + 0.6 * g.md_density
     np.testing.assert_allclose(p.md_density, rho, rtol=1e-12)
     np.testing.assert_allclose(p.vp, np.sqrt(M / rho), rtol=1e-10)
+    # between the two patches' rocks, and a possible solid (Vp/Vs of an isotropic solid)
+    M_brine, M_gas = b.K_sat + 4 / 3 * b.G_sat, g.K_sat + 4 / 3 * g.G_sat
+    assert np.all((M >= M_gas) & (M <= M_brine * (1 + 1e-12)))
+    assert np.all(p.vp / p.vs >= np.sqrt(4 / 3))

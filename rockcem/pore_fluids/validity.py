@@ -29,10 +29,11 @@ def _saturation_pressure(T):
 
 def _where(mask, depth, T, P):
     """Where a rule applies: a depth interval if depths are given, else the (T, P) span."""
+    from ..validity import _interval
+
     mask = np.asarray(mask, dtype=bool)
-    if depth is not None:
-        z = np.broadcast_to(np.asarray(depth, dtype=float), mask.shape)[mask]
-        return f"{z.min():g}–{z.max():g} m" if z.size > 1 else f"{z.min():g} m"
+    if depth is not None:                   # as the rock's warnings write it
+        return _interval(np.broadcast_to(np.asarray(depth, dtype=float), mask.shape), mask)
     t, p = T[mask], P[mask]
     return f"{t.min():.4g}–{t.max():.4g} °C, {p.min():.4g}–{p.max():.4g} MPa"
 
