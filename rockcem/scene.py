@@ -181,12 +181,12 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                     "velocities are their mean, with the standard error as sample-size error"),
         "resolution": (6.0, "number", "cells per radius", "cement lattice resolution Omega"),
         "resolution_check": (None, "number", "cells per radius",
-                             "coarser Omega for the resolution error (default resolution - 1; "
-                             "0 = none)"),
+                             "coarser Omega for the resolution error (default resolution / "
+                             "1.5, none below 1; 0 = none)"),
         "resolution_check2": (None, "number", "cells per radius",
-                              "a third, coarser Omega: the three-point Richardson error with "
-                              "its observed order, flagged where not asymptotic (default "
-                              "resolution_check - 1 where that is >= 1; 0 = none)"),
+                              "a third, coarser Omega: the grid convergence index with the "
+                              "observed order, flagged where not asymptotic (default "
+                              "resolution_check / 1.5 where that is >= 1; 0 = none)"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),

@@ -9,7 +9,8 @@ from rockcem.scene import run_scene, scene_from_dict
 
 def tiny(tmp_path, **md):
     table = {"depths": [1000.0, 2500.0, 4000.0], "size": [3.0, 3.0, 8.0],
-             "resolution": 2.0, "resolution_check": 1.5, "workdir": str(tmp_path / "md"),
+             "resolution": 2.0, "resolution_check": 1.5, "resolution_check2": 0.0,
+             "workdir": str(tmp_path / "md"),
              **md}
     return scene_from_dict({"name": "tiny_md", "lithology": "sandstone",
                             "path": {"max_depth": 4000.0, "depth_step": 100.0},
@@ -233,15 +234,18 @@ def test_samples_average_independent_packs(result):
     assert np.all(np.isfinite(both.vp_error_sample.dropna("depth")))
 
 
-def test_three_resolutions_give_the_richardson_error_or_the_flagged_first_order(result):
-    """With ``resolution_check2`` each MD depth's error is the three-point Richardson estimate
-    where the resolutions are asymptotic; elsewhere it is the two-resolution run's
-    first-order estimate, flagged (md_resolution_asymptotic 0) and named in the warnings.
-    The velocities themselves do not move (the same members at the finest resolution)."""
-    from md.convergence import richardson
+def test_three_resolutions_give_the_grid_convergence_index(result):
+    """With ``resolution_check2`` each MD depth's error is Roache's grid convergence index of
+    its three velocities (md.convergence): 1.25 |v - v1| / (r^q - 1) with the observed order q
+    (clipped to 0.5-1) where the three are in the asymptotic range, else 3 times the larger
+    first-order step, flagged (md_resolution_asymptotic 0) and named in the warnings. The
+    velocities themselves do not move (the same members at the finest resolution)."""
+    from md.convergence import ORDER_CLIP, SAFETY_FALLBACK, SAFETY_OBSERVED, richardson
 
     two, path = result
-    three = run_scene(tiny(path, resolution=2.0, resolution_check=1.5, resolution_check2=1.2))
+    om = (2.0, 1.5, 1.2)
+    three = run_scene(tiny(path, resolution=om[0], resolution_check=om[1],
+                           resolution_check2=om[2]))
     ran = np.isfinite(three.vp.sel(model="md").values)
     m2, m3 = two.sel(model="md").isel(depth=ran), three.sel(model="md").isel(depth=ran)
     np.testing.assert_array_equal(m3.vp, m2.vp)
@@ -250,39 +254,45 @@ def test_three_resolutions_give_the_richardson_error_or_the_flagged_first_order(
     # Two resolutions: no three-point check was made (NaN, not a failed check; no warning).
     assert np.all(np.isnan(two.md_resolution_asymptotic.sel(model="md").values))
     assert "asymptotic range" not in two.attrs.get("validity_warnings", "")
-    for k in np.flatnonzero(asym == 0):
-        assert m3.vp_error_resolution.values[k] == pytest.approx(
-            m2.vp_error_resolution.values[k], rel=1e-12)
-    # An asymptotic depth: the error is |vp - limit| of the three velocities; recompute them
-    # from a coarse-only run at each resolution (its finest value is that resolution's vp).
-    for k in np.flatnonzero(asym == 1):
+    # Recompute from coarse-only runs at each resolution (their finest value is that
+    # resolution's vp).
+    for k in range(asym.size):
         vps = [float(m3.vp.values[k])]
-        for om in (1.5, 1.2):
-            single = run_scene(tiny(path, resolution=om, resolution_check=0.0))
+        for w in om[1:]:
+            single = run_scene(tiny(path, resolution=w, resolution_check=0.0))
             vps.append(float(single.sel(model="md").vp.isel(depth=ran).values[k]))
-        limit, _ = richardson([2.0, 1.5, 1.2], vps)
-        want = 0.0 if vps[0] == vps[1] == vps[2] else abs(vps[0] - limit)   # uncemented
+        if vps[0] == vps[1] == vps[2]:                   # uncemented: no lattice, no error
+            want = 0.0
+        elif asym[k] == 1:
+            _, p = richardson(om, vps)
+            q = min(max(p, ORDER_CLIP[0]), ORDER_CLIP[1])
+            want = SAFETY_OBSERVED * abs(vps[0] - vps[1]) / ((om[0] / om[1]) ** q - 1.0)
+        else:
+            want = SAFETY_FALLBACK * max(abs(vps[0] - vps[1]) / (om[0] / om[1] - 1.0),
+                                         abs(vps[1] - vps[2]) / (om[1] / om[2] - 1.0))
         assert m3.vp_error_resolution.values[k] == pytest.approx(want, rel=1e-9)
     warned = "neither in the asymptotic range" in three.attrs.get("validity_warnings", "")
     assert warned == bool(np.any(asym == 0))
     assert asym[0] == 1 and m3.vp_error_resolution.values[0] == 0     # 1000 m: no cement
-    assert np.any(asym == 0)
 
 
-@pytest.mark.parametrize("given,want", [((6.0, None, None), (5.0, 4.0)),
-                                        ((2.0, None, None), (1.0, 0.0)),
-                                        ((1.5, None, None), (0.0, 0.0)),
-                                        ((6.0, 4.0, None), (4.0, 3.0)),
+@pytest.mark.parametrize("given,want", [((6.0, None, None), (4.0, 8.0 / 3.0)),
+                                        ((2.0, None, None), (4.0 / 3.0, 0.0)),
+                                        ((1.4, None, None), (0.0, 0.0)),
+                                        ((6.0, 5.0, None), (5.0, 10.0 / 3.0)),
                                         ((6.0, 0.0, None), (0.0, 0.0)),
                                         ((6.0, 3.0, 0.0), (3.0, 0.0))])
 def test_default_coarser_resolutions(given, want):
-    """Each check defaults to one below the previous resolution, none below Omega 1; a given
+    """Each check defaults to the previous resolution over 1.5, none below Omega 1; a given
     value (0 = none) is kept."""
+    from md.convergence import MIN_RATIO
     from rockcem._md_backend import resolve_checks
 
+    assert MIN_RATIO == 1.5
     keys = ("resolution", "resolution_check", "resolution_check2")
     out = resolve_checks(dict(zip(keys, given)))
-    assert (out["resolution_check"], out["resolution_check2"]) == want
+    assert out["resolution_check"] == pytest.approx(want[0], rel=1e-15)
+    assert out["resolution_check2"] == pytest.approx(want[1], rel=1e-15)
 
 
 def test_compare_takes_md_members_point_by_point(result):
