@@ -58,6 +58,13 @@ REFERENCES: dict[str, str] = {
         "Gassmann, F., 1951. Über die Elastizität poröser Medien. Vierteljahrsschrift der "
         "Naturforschenden Gesellschaft in Zürich 96, 1-23."
     ),
+    "BrownKorringa1975": (
+        "Brown, R. J. S., and Korringa, J., 1975. On the dependence of the elastic properties of "
+        "a porous rock on the compressibility of the pore fluid. Geophysics 40, 608-616."
+    ),
+    "Thomsen1986": (
+        "Thomsen, L., 1986. Weak elastic anisotropy. Geophysics 51, 1954-1966."
+    ),
     "HashinShtrikman1963": (
         "Hashin, Z., and Shtrikman, S., 1963. A variational approach to the theory of the elastic "
         "behaviour of multiphase materials. J. Mech. Phys. Solids 11, 127-140."
