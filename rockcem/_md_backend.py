@@ -20,8 +20,10 @@ MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_
                       "md_cement_saturation", "md_cement_overflow", "md_coordination_number")
 #: Diagnostic variables per MD model member and depth.
 MD_MODEL_VARIABLES = ("vp_error_resolution", "vs_error_resolution", "vp_error_sample",
-                      "vs_error_sample", "md_resolution_asymptotic", "md_density",
-                      "md_wall_time")
+                      "vs_error_sample", "vp_error", "vs_error", "md_trusted",
+                      "md_resolution_asymptotic", "md_density", "md_wall_time")
+#: Default largest total error of a trusted MD member, relative to its velocity.
+TRUST_THRESHOLD = 0.05
 
 
 def md_labels(params) -> list[str]:
@@ -216,6 +218,9 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             # Sample-size error: standard error of the mean over the independent packs.
             vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
                               np.full(idx.size, np.nan) for v in (vp, vs))
+            vp_tot, vs_tot = total_error(vp_res, vp_smp), total_error(vs_res, vs_smp)
+            trusted = trusted_members(vp.mean(0), vp_tot, vs.mean(0), vs_tot,
+                                      params.get("trust_threshold", TRUST_THRESHOLD))
             models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
                                             K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
                                             vp=full(vp.mean(0)), vs=full(vs.mean(0)),
@@ -223,6 +228,8 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             per_model[label] = {"vp_error_resolution": full(vp_res),
                                 "vs_error_resolution": full(vs_res),
                                 "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
+                                "vp_error": full(vp_tot), "vs_error": full(vs_tot),
+                                "md_trusted": full(trusted.astype(float)),
                                 "md_resolution_asymptotic": full(asym),
                                 "md_density": full(rho.mean(0)),
                                 "md_wall_time": full(stack("wall_time", scheme).sum(0))}
@@ -230,6 +237,23 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
 
     saturated = [saturate(f) for f in fluids]
     return [m for m, _ in saturated], per_depth, [d for _, d in saturated]
+
+
+def total_error(resolution, sample) -> np.ndarray:
+    """Total error of an MD velocity: the resolution and sample-size errors in quadrature
+    (independent sources: the lattice and the pack). NaN where either was not measured (no
+    coarser resolution; one pack): an error that was not measured is not zero."""
+    return np.hypot(np.asarray(resolution, dtype=float), np.asarray(sample, dtype=float))
+
+
+def trusted_members(vp, vp_error, vs, vs_error, threshold) -> np.ndarray:
+    """Where an MD member is trusted: both total errors measured (finite) and at most
+    ``threshold`` of their velocities. Everything else is flagged."""
+    if not 0 < threshold < 1:
+        raise ValueError(f"trust_threshold must lie in (0, 1); got {threshold}")
+    with np.errstate(invalid="ignore"):
+        return ((vp_error <= threshold * vp) & (vs_error <= threshold * vs)
+                & np.isfinite(vp_error) & np.isfinite(vs_error))
 
 
 def resolve_checks(params) -> dict:
@@ -267,6 +291,16 @@ def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
         lines.append(f"MD model at {', '.join(f'{d:g}' for d in depth[over])} m: burial's cement "
                      "exceeds the MD pack's pores; the pores were filled (md_cement_overflow)")
     for label, diag in (per_model or {}).items():
+        flagged = np.isfinite(diag["md_trusted"]) & (diag["md_trusted"] == 0)
+        if np.any(flagged):
+            unmeasured = flagged & ~(np.isfinite(diag["vp_error"]) & np.isfinite(diag["vs_error"]))
+            why = ("its total error (resolution and sample size in quadrature) exceeds the trust "
+                   "threshold of its velocity" if not np.any(unmeasured) else
+                   "its total error exceeds the trust threshold of its velocity or was not "
+                   "measured (a sample-size error needs samples >= 2, a resolution error a "
+                   "resolution_check)")
+            lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[flagged])} m "
+                         f"is not trusted: {why} (md_trusted = 0)")
         asym = diag["md_resolution_asymptotic"]
         off = np.isfinite(asym) & (asym == 0)
         if np.any(off):

@@ -187,6 +187,10 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                               "a third, coarser Omega: the grid convergence index with the "
                               "observed order, flagged where not asymptotic (default "
                               "resolution_check / 1.5 where that is >= 1; 0 = none)"),
+        "trust_threshold": (0.05, "number", "1",
+                            "largest total error (resolution and sample size in quadrature) "
+                            "of a trusted MD member, relative to its velocity; a member above "
+                            "it, or whose error was not measured, is flagged (md_trusted = 0)"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),

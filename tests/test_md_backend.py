@@ -414,3 +414,25 @@ def test_md_member_in_patches_of_brine_and_gas(result):
     M_brine, M_gas = b.K_sat + 4 / 3 * b.G_sat, g.K_sat + 4 / 3 * g.G_sat
     assert np.all((M >= M_gas) & (M <= M_brine * (1 + 1e-12)))
     assert np.all(p.vp / p.vs >= np.sqrt(4 / 3))
+
+
+def test_total_error_and_trust(result):
+    """vp_error is the resolution and sample-size errors in quadrature; a member is trusted
+    only where both are measured and within trust_threshold of its velocities: with one pack
+    no member is (its sample error is unmeasured, NaN, never 0), and the warnings name the
+    depths."""
+    ds, path = result
+    one = ds.sel(model="md")
+    ran = np.isfinite(one.vp.values)
+    assert np.all(np.isnan(one.vp_error.values[ran]))
+    assert np.all(one.md_trusted.values[ran] == 0) and np.all(np.isnan(one.md_trusted[~ran]))
+    assert "is not trusted" in ds.attrs["validity_warnings"]
+    both = run_scene(tiny(path, samples=2, trust_threshold=0.5))
+    m = both.sel(model="md").isel(depth=ran)
+    for v in ("vp", "vs"):
+        want = np.sqrt(m[f"{v}_error_resolution"] ** 2 + m[f"{v}_error_sample"] ** 2)
+        np.testing.assert_allclose(m[f"{v}_error"], want, rtol=1e-12)
+    rel = np.maximum(m.vp_error / m.vp, m.vs_error / m.vs).values
+    np.testing.assert_array_equal(m.md_trusted.values == 1, rel <= 0.5)
+    with pytest.raises(ValueError, match="trust_threshold"):
+        run_scene(tiny(path, trust_threshold=1.5))
