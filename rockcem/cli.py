@@ -52,14 +52,54 @@ def _summary(ds) -> str:
             lines.append(f"  {name} at {float(ds.depth[-1]):g} m: {float(deep[name]):.4g} "
                          f"{'' if ds[name].attrs.get('units') == '1' else ds[name].units}"
                          .rstrip())
+    md = [str(m) for m in ds.model.values if str(m).startswith("md")] \
+        if "model" in ds.dims else []
     if "vp" in ds and not extra:
         for m in ds.model.values:
+            if str(m) in md:
+                continue                    # run at a few depths: the table below
             v = deep.sel(model=m)
             vs = f", vs {float(v.vs):.3f}" if "vs" in ds else ""
             lines.append(f"  {m}: vp {float(v.vp):.3f}{vs} km/s at {float(ds.depth[-1]):g} m")
+        lines.extend(_md_depth_table(ds, md))
     for line in filter(None, ds.attrs.get("validity_warnings", "").split("\n")):
         lines.append(f"warning: {line}")
     return "\n".join(lines)
+
+
+def _md_depth_table(ds, members) -> list[str]:
+    """Lines of the run summary for the MD members of a scene Dataset: per member, a row per
+    MD depth with vp and vs and their total errors (km/s) and whether the member is trusted
+    there (from :func:`rockcem.variables.md_error_trusted`: ``md_trusted``, or its fallback on
+    a Dataset written before it existed)."""
+    import numpy as np
+
+    from .variables import md_error_trusted
+
+    if not members:
+        return []
+    names = [v for v in ("vp", "vs") if v in ds.data_vars]
+    source = "md_trusted" if "md_trusted" in ds.data_vars else \
+        "md_resolution_asymptotic = 1 and error < value"
+    lines = [f"  MD members at their depths ({', '.join(names)} in km/s ± total error;",
+             f"  trusted: {source}):"]
+    for m in members:
+        errors = {v: md_error_trusted(ds, v, model=m) for v in names}
+        ran = np.flatnonzero(np.isfinite(ds[names[0]].sel(model=m).values))
+        lines.append(f"  {m}:")
+        lines.append(f"    {'depth (m)':>9}" + "".join(f"  {v + ' ± error':>15}" for v in names)
+                     + "  trusted")
+        for k in ran:
+            row = f"    {float(ds.depth[k]):>9g}"
+            for v in names:
+                value = float(ds[v].sel(model=m).values[k])
+                error = float(errors[v][0].values[k])
+                text = f"{value:.3f} ± " + (f"{error:.3f}" if np.isfinite(error) else "n/a")
+                row += f"  {text:>15}"
+            flag = float(errors[names[0]][1].values[k])
+            row += "  " + ("yes" if flag == 1.0 else "no" if flag == 0.0 else "n/a")
+            lines.append(row)
+    return lines
 
 
 def _run_md(raw, args) -> int:

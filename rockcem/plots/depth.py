@@ -111,6 +111,9 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                             5.2))
         axes = np.atleast_1d(fig.subplots(1, len(variables), sharey=True, squeeze=False)[0])
         points = set()                  # models drawn as points with error bars
+        untrusted = {}                  # MD member -> (index, its untrusted depths)
+        later = []                      # error bars of untrusted points: drawn last, so that
+        #                                 they leave the axis limits to the trusted data
         for k, (ax, da) in enumerate(zip(axes, arrays, strict=True)):
             series = [(m, i) for i, m in enumerate(models)] if "model" in da.dims else [(None, 0)]
             for model, i in series:
@@ -134,11 +137,13 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                     ok = np.isfinite(values)
                     if ok.sum() < 0.5 * ok.size:    # a model run at a few depths (MD): points
                         points.add(model)
-                        err = _error_bars(ds, da.name, sel, ok)
-                        ax.errorbar(values[ok], depth[ok], xerr=err, color=colour,
-                                    marker=_model_marker(model, i), markersize=4.5,
-                                    linestyle="none", elinewidth=0.9, capsize=2.0,
-                                    zorder=style["zorder"] + 1, label=label)
+                        err, trusted = _error_bars(ds, da.name, sel, ok)
+                        if trusted is not None and not trusted.all():
+                            untrusted.setdefault(model, (i, set()))[1].update(
+                                depth[ok][~trusted])
+                        later.extend(_points(ax, values[ok], depth[ok], err, trusted,
+                                             color=colour, marker=_model_marker(model, i),
+                                             zorder=style["zorder"] + 1, label=label))
                     else:
                         ax.plot(values, depth, **{**style, "color": colour}, label=label)
             ax.set_xlabel(_label(da.name, ds, width=26))
@@ -149,7 +154,15 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             ax.tick_params(labelleft=k == 0)
         axes[0].set_ylabel(_label("depth", ds))
         axes[0].set_ylim(depth.max(), depth.min())          # depth increases downward
-        flagged = flagged_intervals(ds.attrs.get("validity_warnings", ""))
+        for ax in axes:
+            ax.autoscale_view()
+            ax.set_autoscale_on(False)
+        for draw in later:
+            draw()
+        # The MD lines of the warnings are per member: shaded below, each in its colour.
+        warnings = "\n".join(line for line in ds.attrs.get("validity_warnings", "").splitlines()
+                             if not line.startswith("MD "))
+        flagged = flagged_intervals(warnings)
         half = 0.006 * (depth.max() - depth.min())      # a single flagged depth: a thin band
         for top, base in flagged:           # where a model runs outside its source's range
             if base - top < 2.0 * half:
@@ -157,12 +170,23 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             for ax in axes:
                 ax.axhspan(top, base, color="0.55", alpha=0.12, linewidth=0, zorder=0.5,
                            gid="flagged")
+        banded = _untrusted_bands(axes, arrays, untrusted, models, 2.0 * half)
         if temperature_axis:
             _temperature_axes(axes[-1], ds, members)
         from matplotlib.patches import Patch
 
         shade = [Patch(color="0.55", alpha=0.25, linewidth=0,
                        label="flagged (validity_warnings)")] if flagged else []
+        if any(str(m).startswith("md") for m in points):
+            flag = "md_trusted = 0" if "md_trusted" in ds.data_vars else \
+                "md_resolution_asymptotic = 0 or error ≥ value"
+            shade.append(Line2D([], [], color="0.3", marker="o", linestyle="none",
+                                label="MD trusted (filled)"))
+            hollow = Line2D([], [], color="0.3", marker="o", markerfacecolor="white",
+                            linestyle="none",
+                            label="MD not trusted: hollow, dashed bar"
+                            + (", band in its colour" if banded else "") + f"\n({flag})")
+            shade.append(hollow)
         if any("model" in da.dims for da in arrays):
             handles = [Line2D([], [], color=_model_style(m, i, len(models))["color"],
                               marker=_model_marker(m, i), linestyle="none",
@@ -207,12 +231,73 @@ def flagged_intervals(warnings: str) -> list[tuple[float, float]]:
 
 
 def _error_bars(ds, name, sel, ok):
-    """Error bars of a variable drawn as points: its resolution and sample-size errors
-    (``<name>_error_resolution``, ``<name>_error_sample``, where present and finite) in
-    quadrature; None without either."""
-    parts = [np.nan_to_num(ds[f"{name}_error_{kind}"].isel(sel).transpose("depth").values[ok])
-             for kind in ("resolution", "sample") if f"{name}_error_{kind}" in ds]
-    return np.sqrt(sum(p**2 for p in parts)) if parts else None
+    """Error bars and trust of a variable drawn as points, at the depths ``ok``:
+    ``(error, trusted)`` from :func:`rockcem.variables.md_error_trusted` (the total error, or
+    the resolution and sample-size errors in quadrature; ``md_trusted``, or its fallback), each
+    None where the Dataset has no errors (``trusted`` also where it has no MD flag)."""
+    from ..variables import md_error_trusted
+
+    if not any(f"{name}_error{kind}" in ds.data_vars
+               for kind in ("", "_resolution", "_sample")):
+        return None, None
+    error, trusted = md_error_trusted(ds, name)
+    error = np.asarray(error.isel(sel).transpose("depth").values, dtype=float)[ok]
+    flag = np.asarray(trusted.isel(sel).transpose("depth").values, dtype=float)[ok]
+    has_flag = "md_trusted" in ds.data_vars or "md_resolution_asymptotic" in ds.data_vars
+    return error, (flag == 1.0) if has_flag else None
+
+
+def _points(ax, values, depth, error, trusted, *, color, marker, zorder, label):
+    """Points with horizontal error bars: trusted ones filled, the others hollow. The lower
+    bar stops at zero (a velocity is positive). Returns the drawing of the untrusted points'
+    bars, to be called once the axis limits are fixed (a bar as large as its value would
+    otherwise stretch the axis to zero)."""
+    if trusted is None:
+        trusted = np.ones(values.shape, dtype=bool)
+    if error is None:
+        error = np.full(values.shape, np.nan)
+    bars = np.stack([np.minimum(error, np.abs(values)), error])     # lower, upper
+    bars = np.where(np.isfinite(bars), bars, 0.0)
+    common = {"color": color, "elinewidth": 0.9, "capsize": 2.0, "linestyle": "none",
+              "markersize": 4.5, "zorder": zorder}
+    ax.errorbar(values[trusted], depth[trusted], xerr=bars[:, trusted], marker=marker,
+                label=label, **common)
+    ax.plot(values[~trusted], depth[~trusted], marker=marker, markerfacecolor="white",
+            markeredgecolor=color, markeredgewidth=1.1, linestyle="none", markersize=4.5,
+            zorder=zorder + 0.01, gid="untrusted")
+
+    def draw():
+        if (~trusted).any():
+            drawn = ax.errorbar(values[~trusted], depth[~trusted], xerr=bars[:, ~trusted],
+                                fmt="none", ecolor=color, elinewidth=0.9, capsize=2.0,
+                                zorder=zorder - 0.01)
+            for bar in drawn.lines[2]:
+                bar.set_linestyle((0, (2.5, 1.5)))
+                bar.set_gid("untrusted")
+    return [draw]
+
+
+def _untrusted_bands(axes, arrays, untrusted, models, width):
+    """Thin bands at each MD member's untrusted depths, in the member's colour, on the panels
+    that draw that member; members flagged at the same depth share the band in stripes, so
+    every member's flag stays visible. Returns whether any band was drawn."""
+    from ._style import _model_colour
+
+    if not untrusted:
+        return False
+    order = sorted(untrusted, key=lambda m: untrusted[m][0])
+    count = len(order)
+    for k, model in enumerate(order):
+        i, where = untrusted[model]
+        colour = _model_colour(model, i)
+        for ax, da in zip(axes, arrays):
+            if "model" not in da.dims:
+                continue
+            for z in sorted(where):
+                top = z - 0.5 * width + width * k / count
+                ax.axhspan(top, top + width / count, color=colour, alpha=0.3, linewidth=0,
+                           zorder=0.5, gid=f"untrusted:{model}")
+    return True
 
 
 def _alike(da, dim) -> bool:
