@@ -441,7 +441,20 @@ def _contact_bonds_grains(pack: Pack, m, zeta, normal_factor=2.0):
     p, d, dist, xi = p[keep], d[keep], dist[keep], xi[keep]
     ri, rj = r[p[:, 0]], r[p[:, 1]]
     R_f = ri * rj / (ri + rj)
-    a = np.sqrt(R_f * xi)
+    if pack.overlap_dissolved is None:
+        a = np.sqrt(R_f * xi)           # Hertz contact radius
+    else:
+        # Grains truncated by pressure solution (md.reconstruct): the flat of the dissolved
+        # overlap plus the Hertz radius of the elastic rest, a² = b² + R_f ξ_e (Digby 1981;
+        # md.reconstruct.flattened_contact_radius). A contact of radius a has the incremental
+        # stiffness of a flat punch of that radius whatever its profile — normal 2aE/(1-ν²)
+        # and tangential 8Ga/(2-ν) per half-space (Johnson 1985, rigid punch; the constants
+        # of md.bond_stiffness), 2 E_f a and 8 G_f a for the pair, Hertz's tangent and
+        # Mindlin's no-slip stiffness at a = sqrt(R_f ξ).
+        from .reconstruct import dissolved_of, flattened_contact_radius
+
+        xi_p = np.minimum(dissolved_of(pack, p), xi)
+        a = flattened_contact_radius(ri, rj, xi_p, xi - xi_p)
     kn = normal_factor * mat.E_f * a
     kt = 8.0 * mat.G_f * a
     gn, gt = dashpots(kn, kt, m[p[:, 0]], m[p[:, 1]], zeta)

@@ -38,12 +38,16 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["carry_down", "SCHEMES", "MEASURES"]
+__all__ = ["carry_down", "SCHEMES", "MEASURES", "COMPACTIONS", "CEMENT_HISTORIES"]
 
 #: Cementation schemes a depth may use (:func:`md.grow_cement`).
 SCHEMES = ("contact", "coating", "pore_body", "pendular")
 #: How the moduli are measured.
 MEASURES = ("static", "pulse")
+#: How the pack is compacted past the stress's Hertzian state (:func:`carry_down`).
+COMPACTIONS = ("reconstruct", "hertz")
+#: Whether cement grows with burial or is laid down afresh at each depth.
+CEMENT_HISTORIES = ("grown", "fresh")
 
 
 def _source_hash() -> str:
@@ -99,6 +103,25 @@ def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload
     return out, key, path
 
 
+def _reconstructed(pack, intergranular_volume, folder, chain_key, pack_file):
+    """The pack compacted on to ``intergranular_volume`` by process-based reconstruction
+    (:func:`md.reconstruct.reconstruct`), saved as a stage file; returns it, its key and its
+    file."""
+    from .reconstruct import reconstruct
+    from .state import load_pack, save_pack
+
+    key = _key({"previous": chain_key, "reconstruct": float(intergranular_volume)})
+    path = folder / f"reconstruct_{intergranular_volume:.6g}_{key[:6]}.nc"
+    if path.exists():
+        done = load_pack(path)
+        if done.metadata.get("options_key") == key:
+            return done, key, path
+    out = reconstruct(pack, float(intergranular_volume))
+    out.metadata["options_key"] = key
+    save_pack(out, path)
+    return out, key, path
+
+
 def _moduli(system, measure):
     """Dry P-wave and shear moduli (Pa) and density (kg/m³) of a linearised sample."""
     from .acoustic import pulse_test
@@ -112,20 +135,25 @@ def _moduli(system, measure):
     return rho * float(p.velocity) ** 2, rho * float(s.velocity) ** 2, rho
 
 
-def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key):
+def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key,
+                 cells_files=None):
     """One member (a depth's pack, cement fraction, scheme) at every resolution: its moduli
     saved to the stage file ``path`` and returned (a dict of floats; one task of
-    :func:`md._tasks.run_tasks`)."""
+    :func:`md._tasks.run_tasks`). ``cells_files`` (one per resolution) hold cement grown
+    during burial (:func:`_grown_cement`); without them the pack is cemented afresh."""
     import xarray as xr
 
     from .state import _atomic_netcdf, load_pack
 
     t0 = time.perf_counter()
     pack = load_pack(pack_file)
-    if fraction > 0:
-        res = [_member(pack, fraction, scheme, om, cement, options) for om in omegas]
+    cells = [None] * len(omegas) if cells_files is None else \
+        [_load_cells(f) for f in cells_files]
+    if fraction > 0 or (cells[0] is not None and cells[0].any()):
+        res = [_member(pack, fraction, scheme, om, cement, options, c)
+               for om, c in zip(omegas, cells)]
     else:                       # no cement, no lattice: one solve stands for every resolution
-        res = [_member(pack, fraction, scheme, omegas[0], cement, options)] * len(omegas)
+        res = [_member(pack, 0.0, scheme, omegas[0], cement, options)] * len(omegas)
     values = {"p_modulus": res[0][0], "shear_modulus": res[0][1], "density": res[0][2],
               "p_modulus_check": res[1][0] if len(res) > 1 else np.nan,
               "shear_modulus_check": res[1][1] if len(res) > 1 else np.nan,
@@ -137,14 +165,18 @@ def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key
     return values
 
 
-def cement_cells(pack, lat, fraction, scheme, *, seed=0):
+def cement_cells(pack, lat, fraction, scheme, *, seed=0, carried=None, fill=False):
     """Pore cells of ``lat`` cemented by ``scheme`` until the cement in the pack's core window
     (:func:`md.observe.core_window`, where its porosity is measured) fills ``fraction`` of the
     window's volume (to the nearest cell): the growth order of :func:`md.growth.cement_order`
     over the whole lattice, cut where its cells inside the window reach that count. (A
     saturation of all the lattice's pore cells would put a different share in the window, whose
-    porosity differs from the end layers'.) Returns the cemented cells (bool, one per pore cell)
-    and whether the window's pores were too few (then all of them are cemented)."""
+    porosity differs from the end layers'.) ``carried`` (bool, one per pore cell): cement
+    already in place (grown at a shallower depth and carried with the grains,
+    :func:`md.reconstruct.carried_cells`); it stays, and only the increment is added, in the
+    scheme's order, skipping it. ``fill``: cement every pore cell (burial's pores are full).
+    Returns the cemented cells (bool, one per pore cell) and whether the window's pores were
+    too few (then all of them are cemented)."""
     from .growth import cement_order
     from .observe import core_window
 
@@ -152,25 +184,82 @@ def cement_cells(pack, lat, fraction, scheme, *, seed=0):
     z = lat.centres()[:, 2]
     inside = (z >= lo) & (z < hi)
     want = int(round(fraction * pack.box.lx * pack.box.ly * (hi - lo) / lat.cell_width**3))
-    cells = np.zeros(lat.index.size, dtype=bool)
-    if want == 0:
+    cells = np.zeros(lat.index.size, dtype=bool) if carried is None else \
+        np.array(carried, dtype=bool)
+    if cells.shape != (lat.index.size,):
+        raise ValueError("carried must have one entry per pore cell of lat")
+    if fill:
+        return np.ones(lat.index.size, dtype=bool), bool(want > inside.sum())
+    have = int(np.count_nonzero(cells & inside))
+    if want <= have:
         return cells, False
     order = cement_order(lat, 1.0, scheme, seed=seed)
-    count = np.cumsum(inside[order])
+    order = order[~cells[order]]
+    count = have + np.cumsum(inside[order])
+    if count.size == 0:
+        return cells, True
     overflow = want > count[-1]
     cells[order[:int(np.searchsorted(count, min(want, count[-1]))) + 1]] = True
     return cells, bool(overflow)
 
 
-def _member(pack, fraction, scheme, omega, cement, options):
+def _load_cells(path):
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return ds["cells"].values.astype(bool)
+
+
+def _grown_cement(pack, pack_key, fraction, scheme, omega, seed, previous, folder, fill):
+    """Cement grown during burial on ``pack`` at resolution ``omega``: the cement of the
+    shallower depth (``previous``: ``(key, grain, offset)`` or None) carried with the grains
+    (:func:`md.reconstruct.carried_cells`) plus the increment to ``fraction``
+    (:func:`cement_cells`). Saved as a stage file; returns ``(key, grain, offset)`` for the
+    next depth, the file, the cells' cement fraction in the core window and the overflow
+    flag."""
+    import xarray as xr
+
+    from .cement import cement_lattice
+    from .observe import core_window
+    from .reconstruct import attach_cement, carried_cells
+    from .state import _atomic_netcdf
+
+    key = _key({"pack": pack_key, "previous": None if previous is None else previous[0],
+                "fraction": float(fraction), "scheme": scheme, "omega": float(omega),
+                "seed": int(seed), "fill": bool(fill)})
+    path = folder / f"{scheme}_w{omega:g}_c{fraction:.6g}_{key[:6]}.nc"
+    done = _saved(path, key)
+    if done is not None:
+        return ((key, done["grain"].values.astype(np.int64), done["offset"].values), path,
+                float(done.attrs["cement_window"]), bool(done.attrs["overflow"]))
+    lat = cement_lattice(pack, omega)
+    carried = None if previous is None else carried_cells(pack, lat, previous[1], previous[2])
+    cells, overflow = cement_cells(pack, lat, fraction, scheme, seed=seed, carried=carried,
+                                   fill=fill)
+    lo, hi = core_window(pack)
+    z = lat.centres()[:, 2]
+    inside = (z >= lo) & (z < hi)
+    window = float(np.count_nonzero(cells & inside) * lat.cell_width**3
+                   / (pack.box.lx * pack.box.ly * (hi - lo)))
+    grain, offset = attach_cement(pack, lat, cells)
+    _atomic_netcdf(xr.Dataset({"cells": (("cell",), cells.astype(np.int8)),
+                               "grain": (("point",), grain), "offset": (("point", "xyz"), offset)},
+                              attrs={"options_key": key, "cement_window": window,
+                                     "overflow": int(overflow)}), path)
+    return (key, grain, offset), path, window, overflow
+
+
+def _member(pack, fraction, scheme, omega, cement, options, cells=None):
     """Moduli of the pack cemented to the cement ``fraction`` (volume per bulk volume of its
-    core window) by ``scheme`` at resolution ``omega``."""
+    core window) by ``scheme`` at resolution ``omega``, or with the given ``cells`` (cement
+    grown during burial)."""
     from .acoustic import acoustic_system
     from .cement import cement_lattice
 
-    if fraction > 0:
+    if cells is not None and cells.any() or cells is None and fraction > 0:
         lat = cement_lattice(pack, omega)
-        cells, _ = cement_cells(pack, lat, fraction, scheme, seed=options["seed"])
+        if cells is None:
+            cells, _ = cement_cells(pack, lat, fraction, scheme, seed=options["seed"])
         system = acoustic_system(pack, lat, cells, cement, interface=options["interface"],
                                  slab_thickness=options["slab"] * 2 * pack.radii.max())
     else:
@@ -185,7 +274,8 @@ def _store(out, i, k, values):
         out[var][i, k] = values.get(var, np.nan)
 
 
-def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("coating",),
+def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranular_volume=None,
+               compaction=None, cement_history="grown", schemes=("coating",),
                size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
@@ -204,6 +294,23 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         ``max_stress``. Where it is lower (uplift), the pack compacted to ``max_stress`` is
         unloaded to it (:func:`md.compact` with ``unload=True``) before it is cemented; the
         carried pack itself stays at ``max_stress`` for the deeper depths.
+    intergranular_volume : array_like, shape (n,), optional
+        Burial's intergranular volume at each depth (porosity + cement fraction), in (0, 1):
+        the porosity the uncemented pack is compacted to by ``compaction="reconstruct"``.
+    compaction : {"reconstruct", "hertz"}, optional
+        ``"reconstruct"`` (the default where ``intergranular_volume`` is given): the pack
+        compacted by Hertzian MD to the stress is compacted on to ``intergranular_volume`` by
+        process-based reconstruction (:func:`md.reconstruct.reconstruct`: grain centres moved
+        together vertically, the overlap removed as pressure solution, flattened contacts in
+        the contact stiffness). ``"hertz"`` (the default without it): Hertzian compaction only,
+        the pack stays at the porosity elastic spheres reach (0.36–0.38).
+    cement_history : {"grown", "fresh"}
+        ``"grown"`` (default): cement is laid down in increments as the pack is carried down
+        (:func:`_grown_cement`): the cells cemented at a shallower depth stay cemented,
+        carried with their grains to the deeper depth's pack (:func:`md.reconstruct.
+        carried_cells`; cement that a compaction pushes into a grain is lost), and the depth
+        adds the increment to its cement fraction. ``"fresh"``: each depth's pack is
+        cemented afresh (the cement never props the pack; the former behaviour).
     schemes : sequence of str
         Cementation schemes (:data:`SCHEMES`); default coating (quartz overgrowths).
     size : (float, float, float)
@@ -260,7 +367,11 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         ``saturation`` (S_c = cement fraction / pack porosity, at most 1),
         ``cement_overflow`` (1 where the cement exceeds the pores of the core window),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
-        core window), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
+        core window; the union volume of the grains, :func:`md.observe.porosity`),
+        ``cement_window`` (the cement fraction the cells of the sample's core window hold at
+        ``resolution``, with grown cement; within a cell of ``cement_fraction`` unless the
+        carried cement exceeds it; NaN with fresh cement), ``compaction_factor`` (the
+        reconstruction's :math:`\\lambda`, 0 with Hertzian compaction), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
         increment past the target), ``stress_present`` (Pa, after unloading; the first
         increment at or below the present stress), ``coordination_number``, ``wall_time`` (s).
     """
@@ -283,6 +394,24 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         raise ValueError(f"max_stress must be finite and > 0 MPa; got {stress.min():g} MPa")
     if not np.all(np.isfinite(frac) & (frac >= 0) & (frac < 1)):
         raise ValueError("cement_fraction must lie in [0, 1)")
+    if compaction is None:
+        compaction = "hertz" if intergranular_volume is None else "reconstruct"
+    if compaction not in COMPACTIONS:
+        raise ValueError(f"compaction must be one of {COMPACTIONS}; got {compaction!r}")
+    if cement_history not in CEMENT_HISTORIES:
+        raise ValueError(f"cement_history must be one of {CEMENT_HISTORIES}; "
+                         f"got {cement_history!r}")
+    igv = None
+    if intergranular_volume is not None:
+        igv = np.atleast_1d(np.asarray(intergranular_volume, dtype=float))
+        if igv.shape != stress.shape or not np.all(np.isfinite(igv) & (igv > 0) & (igv < 1)):
+            raise ValueError("intergranular_volume must have max_stress's shape and lie in "
+                             "(0, 1)")
+        if np.any(frac > igv + 1e-9):
+            raise ValueError("cement_fraction must not exceed intergranular_volume")
+    elif compaction == "reconstruct":
+        raise ValueError('compaction="reconstruct" needs intergranular_volume (burial\'s '
+                         'porosity + cement fraction per depth)')
     now = stress if present_stress is None else \
         np.atleast_1d(np.asarray(present_stress, dtype=float))
     if now.shape != stress.shape or not np.all((now > 0) & (now <= stress * (1 + 1e-12))):
@@ -320,17 +449,21 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
         raise ValueError(f"slab must be > 0 diameters; got {slab}")
     lattice_constants(cement, 1.0, rotations=True)     # the rotating lattice takes this cement
     options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
-               "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash()}
+               "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash(),
+               "compaction": compaction, "cement_history": cement_history}
     omegas = [float(w) for w in (resolution, resolution_check, resolution_check2) if w]
     n, m = stress.size, len(schemes)
     shape = (n, m)
     out = {k: np.full(shape, np.nan) for k in ("p_modulus", "shear_modulus", "density",
                                                "p_modulus_check", "shear_modulus_check",
                                                "p_modulus_check2", "shear_modulus_check2",
-                                               "saturation", "porosity", "wall_time")}
+                                               "saturation", "porosity", "wall_time",
+                                               "cement_window")}
     overflow = np.zeros(shape, np.int8)
     per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
-                                                 "stress_present", "coordination_number")}
+                                                 "stress_present", "coordination_number",
+                                                 "compaction_factor")}
+    grown = {}                  # (scheme, omega) -> (key, grain, offset) of the last depth
     order = np.argsort(stress, kind="stable")
     # 1. Carry the pack down, depth after depth (sequential: each stage starts from the last).
     pack_file = folder / "pack" / "settle.nc"
@@ -345,20 +478,39 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
             here, here_key, here_file = _compacted(pack, now[i] * 1e6, folder / "pack", chain,
                                                    unload_step, progress, unload=True)
         per_depth["stress_present"][i] = here.metadata["stress_zz"]
+        per_depth["compaction_factor"][i] = 0.0
+        if compaction == "reconstruct":
+            here, here_key, here_file = _reconstructed(here, igv[i], folder / "pack",
+                                                       here_key, here_file)
+            per_depth["compaction_factor"][i] = here.metadata["compaction_factor"]
         phi = porosity(here)
         per_depth["porosity_pack"][i] = phi
         per_depth["coordination_number"][i] = coordination_number(here)
+        # Burial's pores full (its porosity below half a percent): the sample's too.
+        fill = compaction == "reconstruct" and igv[i] - frac[i] < 0.005
         for k, scheme in enumerate(schemes):
-            overflow[i, k] = frac[i] > phi
-            out["saturation"][i, k] = min(frac[i] / phi, 1.0)
-            out["porosity"][i, k] = max(phi - frac[i], 0.0)
+            overflow[i, k] = frac[i] > phi + 0.01
+            out["saturation"][i, k] = 1.0 if fill else min(frac[i] / phi, 1.0)
+            out["porosity"][i, k] = 0.0 if fill else max(phi - frac[i], 0.0)
+            cement_keys, cells_files = None, None
+            if cement_history == "grown":
+                cement_keys, cells_files = [], []
+                for w in omegas:
+                    state, cfile, window, over = _grown_cement(
+                        here, here_key, frac[i], scheme, w, seed, grown.get((scheme, w)),
+                        folder / "cement", fill)
+                    grown[(scheme, w)] = state
+                    cement_keys.append(state[0])
+                    cells_files.append(str(cfile))
+                    if w == omegas[0]:          # the cells' own (porosity: burial's cement)
+                        out["cement_window"][i, k] = window
             key = _key({"pack": here_key, "fraction": float(frac[i]), "scheme": scheme,
-                        "omegas": omegas, **options})
+                        "omegas": omegas, "cement_keys": cement_keys, **options})
             path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_c{frac[i]:.6g}_{key[:6]}.nc"
             done = _saved(path, key)
             if done is None:
-                task = (str(here_file), float(frac[i]), scheme, omegas, cement, options,
-                        str(path), key)
+                task = (str(here_file), 0.999 if fill else float(frac[i]), scheme, omegas,
+                        cement, options, str(path), key, cells_files)
                 todo.append(task)
                 where[path.name] = (i, k)
             else:
@@ -384,7 +536,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, schemes=("co
     data["cement_overflow"] = (dims, overflow)
     data.update({k: (("point",), v) for k, v in per_depth.items()})
     return xr.Dataset(data, coords={"scheme": list(schemes)},
-                      attrs={"resolution": float(resolution),
+                      attrs={"resolution": float(resolution), "compaction": compaction,
+                             "cement_history": cement_history,
                              "resolution_check": float(resolution_check),
                              "resolution_check2": float(resolution_check2),
                              "interface": interface, "measure": measure, "rotations": 1,

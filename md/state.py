@@ -42,6 +42,10 @@ class Pack:
         Simulated time at the end of the stage, s.
     metadata : dict
         JSON-serialisable extra information (seed, parameters, diagnostics).
+    overlap_dissolved : ndarray, shape (M,), optional
+        Part of each pair's overlap removed by pressure solution, m (:func:`md.reconstruct`):
+        the grains are truncated there and only the rest of the overlap is elastic. None (a
+        pack of elastic spheres): every overlap is elastic.
     """
 
     positions: np.ndarray
@@ -55,6 +59,7 @@ class Pack:
     stage: str = ""
     time: float = 0.0
     metadata: dict = field(default_factory=dict)
+    overlap_dissolved: np.ndarray | None = None
 
     def __post_init__(self):
         n = self.radii.shape[0] if np.ndim(self.radii) == 1 else -1
@@ -63,6 +68,11 @@ class Pack:
                 raise ValueError(f"{name} must have shape (N, 3) with N = len(radii)")
         if np.shape(self.pairs)[1:] != (2,) or np.shape(self.history) != (len(self.pairs), 3):
             raise ValueError("pairs must have shape (M, 2) and history (M, 3)")
+        if self.overlap_dissolved is not None and (
+                np.shape(self.overlap_dissolved) != (len(self.pairs),)
+                or not np.all(np.asarray(self.overlap_dissolved) >= 0)):
+            raise ValueError("overlap_dissolved must have shape (M,) (one per pair) and be "
+                             ">= 0 m")
 
     @property
     def n_grains(self) -> int:
@@ -83,6 +93,9 @@ def save_pack(pack: Pack, path) -> Path:
             "radii": (("grain",), pack.radii, {"units": "m"}),
             "pairs": (("pair", "end"), np.asarray(pack.pairs, dtype=np.int32)),
             "history": (("pair", "xyz"), pack.history, {"units": "m"}),
+            **({} if pack.overlap_dissolved is None else
+               {"overlap_dissolved": (("pair",), np.asarray(pack.overlap_dissolved, float),
+                                      {"units": "m"})}),
         },
         attrs={
             "stage": pack.stage,
@@ -147,6 +160,7 @@ def load_pack(path) -> Pack:
         arrays = {name: ds[name].values for name in ("positions", "velocities",
                                                      "angular_velocities", "radii", "pairs",
                                                      "history")}
+        dissolved = ds["overlap_dissolved"].values if "overlap_dissolved" in ds else None
     except (KeyError, TypeError, ValueError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path.name} is not a rockcem pack file (missing or bad "
                          f"{exc}); write it again with md.save_pack") from None
@@ -159,4 +173,5 @@ def load_pack(path) -> Pack:
         pairs=np.ascontiguousarray(arrays["pairs"], dtype=np.int32),
         history=np.ascontiguousarray(arrays["history"]),
         stage=stage, time=time, metadata=metadata,
+        overlap_dissolved=None if dissolved is None else np.ascontiguousarray(dissolved),
     )

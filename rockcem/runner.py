@@ -185,7 +185,9 @@ class _Pipeline:
                 self.now(self.path.depth), self.pressures.effective,
                 self.pressures.max_effective, self.sandstone.cement_fraction, minerals[0],
                 minerals[1], fluid.patches or [fluid.fluid], self.lith["grain_size"],
-                self.sec["models.md"], workdir=out.with_name(out.stem + "_md_work"),
+                self.sec["models.md"],
+                intergranular_volume=self.sandstone.porosity + self.sandstone.cement_fraction,
+                workdir=out.with_name(out.stem + "_md_work"),
                 scheduler=self.scheduler, jobs=self.jobs, progress=self.progress)
         if fluid.patches is None:
             return models[0], per_depth, per_model[0]

@@ -191,6 +191,14 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                             "largest total error (resolution and sample size in quadrature) "
                             "of a trusted MD member, relative to its velocity; a member above "
                             "it, or whose error was not measured, is flagged (md_trusted = 0)"),
+        "compaction": ("reconstruct", "string", "",
+                       "'reconstruct': compacted past Hertzian contact to burial's "
+                       "intergranular volume (grain centres moved together vertically, the "
+                       "overlap removed as pressure solution; md.reconstruct); 'hertz': "
+                       "elastic spheres only (porosity stays near 0.37)"),
+        "cement_history": ("grown", "string", "",
+                           "'grown': cement laid down in increments as the pack is carried "
+                           "down, carried with the grains; 'fresh': each depth cemented afresh"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),

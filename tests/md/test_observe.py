@@ -99,3 +99,22 @@ def test_overlap_limit_scales_with_the_stress_and_catches_a_blow_up():
     y[0, 2] += 9 * xi                             # grain 0 driven into its upper neighbour
     with pytest.raises(RuntimeError, match="compact: the integration blew up"):
         check_overlaps("compact", y, r, pairs, box, QUARTZ)
+
+
+def test_porosity_counts_overlapping_grains_once():
+    """Two grains overlapping by a fifth of a radius: the porosity of a slab holding both is
+    that of their union, the spheres less the lens (two caps of Archimedes)."""
+    import md
+    from md.observe import porosity
+
+    r = 1e-4
+    d = 1.8 * r
+    x = np.array([[3e-4, 3e-4, 3e-4], [3e-4, 3e-4, 3e-4 + d]])
+    z = np.zeros_like(x)
+    pack = md.Pack(x, z, z.copy(), np.full(2, r), Box(6e-4, 6e-4, 0.0, 1e-3), md.QUARTZ,
+                   np.zeros((0, 2), np.int32), np.zeros((0, 3)))
+    h = r - d / 2
+    lens = 2 * np.pi * h * h * (3 * r - h) / 3
+    union = 2 * 4 / 3 * np.pi * r**3 - lens
+    assert porosity(pack, bottom=0.0, top=1e-3) == pytest.approx(
+        1 - union / (6e-4 * 6e-4 * 1e-3), abs=1e-12)
