@@ -1,9 +1,11 @@
 """Static moduli of the linearised acoustic stage: the long-wave limit of the pulse test by a
 sparse solve on the same operator (García & Medina, Sect. III G; the cross-check of
-:func:`md.pulse_test`).
+:func:`md.pulse_test`), and the transversely isotropic stiffness of the sample
+(:func:`static_stiffness`: C11, C13, C33, C44, C66 by five solves on one factorisation).
 
 SI units. The sample is the :class:`md.AcousticSystem` cut into slabs along z; the bottom slab
-is displaced, the top slab held, and the free particles on the load path relax.
+is displaced (or, for the in-plane constants, the whole box strained through its periodic
+images), the top slab held, and the free particles on the load path relax.
 """
 
 from __future__ import annotations
@@ -373,7 +375,24 @@ class _BandBonds:
 
     def jump_forces(self, strain):
         """Forces (and moments) on the particles, shape (n, dof), of the jumps alone."""
-        F = np.einsum("mab,mb->ma", self.k, self.shift @ strain.T)     # on i; -F on j
+        return self._gather(np.einsum("mab,mb->ma", self.k, self.shift @ strain.T))
+
+    def check(self, system, seed=0):
+        """Raise unless these bonds give the operator's forces
+        (:meth:`md.AcousticSystem.forces`) for a random displacement: the stress and the
+        jumps then describe the same bonds as the solve."""
+        u = np.random.default_rng(seed).standard_normal((self.n, self.dof))
+        want = system.forces(u)
+        got = self._gather(np.einsum("mab,mb->ma", self.k, self.opening(u, np.zeros((3, 3)))))
+        scale = float(np.abs(want).max()) or 1.0
+        if not np.abs(got - want).max() <= 1e-9 * scale:
+            raise RuntimeError("the bond list of md.static does not reproduce "
+                               "AcousticSystem.forces: the operator holds bonds it does not "
+                               "know; update md.static._BandBonds")
+
+    def _gather(self, F):
+        """Forces (and moments) on the particles of the bond pulls ``F`` (on ``i``; ``-F`` on
+        ``j``), shape (n, dof)."""
         f = np.zeros((self.n, self.dof))
         for a in range(3):
             f[:, a] = np.bincount(self.i, F[:, a], self.n) - np.bincount(self.j, F[:, a], self.n)
@@ -454,6 +473,7 @@ def static_stiffness(system: AcousticSystem, *, rtol=1e-10, maxiter=None,
         z0 = sys_.extent[0]
         t = sys_.slab_thickness
         bonds = _BandBonds(sys_, z0 + t, z0 + (setup.n_slabs - 1) * t)
+        bonds.check(sys_)
         args = (setup.flag, setup.slab, setup.n_slabs, setup.connected)
         loads = {}
         zero = np.zeros((3, 3))

@@ -125,3 +125,17 @@ def test_pack_bulk_modulus_and_thomsen(packs, name):
     C = np.array([[st.c11, st.c12, st.c13], [st.c12, st.c11, st.c13],
                   [st.c13, st.c13, st.c33]])
     assert st.bulk_voigt == pytest.approx(C.sum() / 9, rel=1e-12)
+
+
+@pytest.mark.parametrize("name,tol", [("bare", 0.3), ("coated", 0.1)])
+def test_transverse_isotropy_relation(packs, name, tol):
+    """C66 (in-plane simple shear) against (C11 - C12)/2 (uniaxial x and y strain): equal for a
+    transversely isotropic sample, exactly so for the isotropic block above. A compacted pack is
+    TI only statistically: on this pack, 3 grains across a square periodic cell, they differ by
+    24 % bare and 6.5 % coated (measured); on the 4 x 4 x 12 packs of
+    benchmarks/md_anisotropy.py by at most 17 % (median 5 %) over 18 members. The tolerance
+    holds the measured difference with margin and fails on a factor-of-two error in either.
+    (Written as C12 = C11 - 2 C66 the same check is ill-conditioned: C11 - 2 C66 is a small
+    difference of large numbers.)"""
+    _, st = packs[name]
+    assert (st.c11 - st.c12) / 2 == pytest.approx(st.c66, rel=tol)
