@@ -1,21 +1,30 @@
 """MD along a burial path: one grain pack carried down, cemented and measured at chosen depths.
 
 The MD backend of a burial scene (:mod:`rockcem.runner` calls :func:`carry_down`). ``md`` knows
-nothing of burial: it is handed, per depth, the largest effective stress the sediment has borne
-and its cement fraction, and returns the dry moduli of the cemented pack (SI units).
+nothing of burial: it is handed, per depth, the largest effective stress the sediment has borne,
+its cement fraction and (for reconstruction) its intergranular volume, and returns the dry
+moduli of the cemented pack (SI units).
 
 What happens, in order (the reasoning is in docs/user_guide/md_along_depth.md):
 
 1. One pack is settled (:func:`md.settle`) and never re-settled.
-2. Depths are taken in order of their largest effective stress; the *uncemented* pack is
-   compacted between frozen end slabs (:func:`md.compact`, uniaxial strain, vertical stress
+2. Depths are taken in order of their largest effective stress; the pack is compacted
+   between frozen end slabs (:func:`md.compact`, uniaxial strain, vertical stress
    :math:`\\sigma_{zz}`: a laterally confined basin loads its sediment vertically) to each
-   depth's stress in turn, so the compaction increments are reused down the path.
-3. At each depth the compacted pack is cemented by each scheme (one growth order per scheme,
-   :func:`cement_cells`) until the cement in its core window, where its porosity is measured,
-   is the depth's cement fraction: a saturation :math:`S_c = \\phi_{cem}/\\phi_{pack}`
-   (cement volume per bulk volume over the pack's own porosity); a depth whose cement exceeds
-   the pores is cemented full (:math:`S_c = 1`) and flagged.
+   depth's stress in turn, so the compaction increments are reused down the path. Elastic
+   spheres stop near a porosity of 0.37; with ``compaction="reconstruct"`` (the default where
+   burial's intergranular volume is given) each depth's Hertzian pack is compacted on to that
+   intergranular volume by process-based reconstruction (:mod:`md.reconstruct`: centres moved
+   together vertically, the overlap removed as pressure solution, flattened contacts in the
+   contact stiffness), so the sample has burial's porosity; uplift keeps it (burial's IGV is
+   that of the largest stress).
+3. At each depth the pack is cemented by each scheme until the cement in its core window,
+   where its porosity is measured, is the depth's cement fraction (:func:`cement_cells`): a
+   saturation :math:`S_c = \\phi_{cem}/\\phi_{pack}`. With ``cement_history="grown"`` (the
+   default) the cement of the shallower depth is carried with its grains to this depth's pack
+   and only the increment is added (:func:`_grown_cement`); ``"fresh"`` cements each depth
+   afresh. A depth whose pores burial fills is cemented full; cement that exceeds the pores
+   is flagged.
 4. The cemented sample is linearised with rotations (:func:`md.acoustic_system`) and its static
    P (uniaxial strain) and S (simple shear) moduli are solved for (:func:`md.static_modulus`),
    the long-wave limit that logs see; ``measure="pulse"`` uses pulse-test velocities instead.
@@ -25,8 +34,9 @@ What happens, in order (the reasoning is in docs/user_guide/md_along_depth.md):
    a third, and the error is the Richardson estimate with the observed order where the three
    are in the asymptotic range (:mod:`md.convergence`), flagged where they are not.
 
-Every compacted pack and every measured member is saved in ``workdir`` (``pack/``,
-``members/``), so an interrupted run resumes; a stage file made with other options is redone.
+Every compacted (and reconstructed) pack, every grown cement and every measured member is saved
+in ``workdir`` (``pack/``, ``cement/``, ``members/``), so an interrupted run resumes; a stage
+file made with other options is redone.
 """
 
 from __future__ import annotations
@@ -365,15 +375,17 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
         (``p_modulus_asymptotic``, ``shear_modulus_asymptotic``: 1, else 0; NaN with fewer
         than three resolutions),
         ``saturation`` (S_c = cement fraction / pack porosity, at most 1),
-        ``cement_overflow`` (1 where the cement exceeds the pores of the core window),
+        ``cement_overflow`` (1 where the cement exceeds the pores of the core window by more
+        than 0.01: then they are all cemented),
         ``porosity_pack`` and ``porosity`` (the uncemented pack's and the cemented sample's,
         core window; the union volume of the grains, :func:`md.observe.porosity`),
         ``cement_window`` (the cement fraction the cells of the sample's core window hold at
         ``resolution``, with grown cement; within a cell of ``cement_fraction`` unless the
         carried cement exceeds it; NaN with fresh cement), ``compaction_factor`` (the
-        reconstruction's :math:`\\lambda`, 0 with Hertzian compaction), ``stress_reached`` (Pa, vertical stress of the compacted pack; the first
-        increment past the target), ``stress_present`` (Pa, after unloading; the first
-        increment at or below the present stress), ``coordination_number``, ``wall_time`` (s).
+        reconstruction's :math:`\\lambda`, 0 with Hertzian compaction), ``stress_reached``
+        (Pa, vertical stress of the compacted pack; the first increment past the target),
+        ``stress_present`` (Pa, after unloading; the first increment at or below the present
+        stress), ``coordination_number``, ``wall_time`` (s).
     """
     import xarray as xr
     from tqdm.auto import tqdm

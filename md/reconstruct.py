@@ -308,6 +308,11 @@ def reconstruct(pack, intergranular_volume, *, tolerance=1e-4, max_factor=0.6, s
     :attr:`~md.Pack.overlap_dissolved` (aligned with its ``pairs``, the overlapping pairs);
     :func:`flattened_contact_radius` gives their contact radius.
 
+    The returned pack is a sample to measure (porosity, cement lattice, linearised
+    stiffness), not a state to run MD on: its overlaps are mostly not Hertzian, and
+    :func:`md.compact` would read them as enormous elastic forces. A deeper depth starts again
+    from the Hertzian pack (:func:`md.along_depth.carry_down`).
+
     A pack already at or below the target porosity is returned with :math:`\lambda = 0`
     (reconstruction only compacts; ``metadata["reconstruct_reached"]`` is then False unless
     it is within ``tolerance``).

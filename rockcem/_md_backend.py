@@ -287,9 +287,9 @@ def resolve_checks(params) -> dict:
 
 
 def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
-    """Lines for the Dataset's ``validity_warnings``: where the MD sample is more porous than
-    burial's rock (elastic spheres do not compact to a buried sandstone's intergranular
-    volume), where burial's cement overfilled the pack's pores, and (with ``per_model`` from a
+    """Lines for the Dataset's ``validity_warnings``: where the MD sample's porosity differs from
+    burial's by more than 0.01 (Hertzian compaction stops near 0.37; reconstruction reaches
+    burial's intergranular volume unless the Hertzian pack is already denser), where burial's cement overfilled the pack's pores, and (with ``per_model`` from a
     three-resolution run) where the resolution error is not an asymptotic estimate."""
     ran = np.isfinite(per_depth["md_porosity"])
     lines = []
