@@ -236,7 +236,8 @@ def porosity(pack, *, bottom=None, top=None) -> float:
     over the slab's volume (:func:`md.reconstruct.union_solid_volume`: spherical caps of grains
     cut by the slab's planes counted exactly, the lenses where grains overlap counted once —
     a pack compacted by :func:`md.reconstruct.reconstruct` overlaps by a tenth of a radius and
-    more; the Hertz overlaps of elastic grains change it by about 1e-5)."""
+    more; the Hertz overlaps of elastic grains (ξ/R up to 0.06 at 60 MPa) raise it by up to
+    4e-4 over the sum of the spheres)."""
     from .reconstruct import union_solid_volume
 
     if bottom is None or top is None:

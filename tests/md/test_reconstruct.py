@@ -224,3 +224,25 @@ def test_union_porosity_of_a_random_overlapping_pack_against_monte_carlo():
         covered |= np.einsum("ij,ij->i", d, d) < rg * rg
     ref = 1 - covered.mean()
     assert abs(got - ref) < 4 * np.sqrt(ref * (1 - ref) / n)
+
+
+def test_uplift_keeps_the_largest_stress_porosity(tmp_path):
+    """carry_down: a depth uplifted from 20 to 10 MPa keeps burial's intergranular volume under
+    reconstruction (no porosity regained), while the Hertzian pack regains some as it
+    unloads; the unloaded stress is the present one."""
+    from md.along_depth import carry_down
+
+    kw = dict(present_stress=[20.0, 10.0], size=(3.0, 3.0, 7.0), resolution=1.0,
+              workdir=tmp_path)
+    rec = carry_down([20.0, 20.0], [0.0, 0.0], intergranular_volume=[0.28, 0.28], **kw)
+    np.testing.assert_allclose(rec.porosity_pack, 0.28, atol=2e-4)
+    assert rec.stress_present.values[1] <= 10e6 < rec.stress_present.values[0]
+    assert rec.compaction_factor.values[1] > rec.compaction_factor.values[0] > 0
+    hertz = carry_down([20.0, 20.0], [0.0, 0.0], compaction="hertz", **kw)
+    assert hertz.porosity_pack.values[1] > hertz.porosity_pack.values[0]
+    with pytest.raises(ValueError, match="intergranular_volume"):
+        carry_down([20.0], [0.0], compaction="reconstruct", workdir=tmp_path)
+    with pytest.raises(ValueError, match="compaction must be one of"):
+        carry_down([20.0], [0.0], compaction="squash", workdir=tmp_path)
+    with pytest.raises(ValueError, match="cement_history must be one of"):
+        carry_down([20.0], [0.0], cement_history="old", workdir=tmp_path)
