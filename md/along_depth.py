@@ -54,6 +54,14 @@ __all__ = ["carry_down", "SCHEMES", "MEASURES", "COMPACTIONS", "CEMENT_HISTORIES
 SCHEMES = ("contact", "coating", "pore_body", "pendular")
 #: How the moduli are measured.
 MEASURES = ("static", "pulse")
+#: What the static solve measures: the five constants of the transversely isotropic sample
+#: (:func:`md.static.static_stiffness`) or its vertical P and S moduli alone.
+ANISOTROPY = ("ti", "isotropic")
+#: Moduli of a member (Pa), each at every resolution: C33 and C44 are ``p_modulus`` and
+#: ``shear_modulus``; C11, C13 and C66 are NaN unless ``anisotropy="ti"``.
+MODULI = ("p_modulus", "shear_modulus", "c11", "c13", "c66")
+#: Suffixes of the moduli at the finest resolution and the two checks.
+_RESOLUTION_SUFFIX = ("", "_check", "_check2")
 #: How the pack is compacted past the stress's Hertzian state (:func:`carry_down`).
 COMPACTIONS = ("reconstruct", "hertz")
 #: Whether cement grows with burial or is laid down afresh at each depth.
@@ -132,17 +140,25 @@ def _reconstructed(pack, intergranular_volume, folder, chain_key, pack_file):
     return out, key, path
 
 
-def _moduli(system, measure):
-    """Dry P-wave and shear moduli (Pa) and density (kg/m³) of a linearised sample."""
+def _moduli(system, measure, anisotropy="isotropic"):
+    """Dry moduli of a linearised sample (Pa, :data:`MODULI`; the TI constants NaN unless
+    ``anisotropy="ti"``) and its density (kg/m³), as a dict."""
     from .acoustic import pulse_test
-    from .static import static_moduli
+    from .static import static_moduli, static_stiffness
 
+    if measure == "static" and anisotropy == "ti":
+        st = static_stiffness(system)               # five loads, one factorisation
+        return {"p_modulus": st.c33, "shear_modulus": st.c44, "c11": st.c11, "c13": st.c13,
+                "c66": st.c66, "density": st.density}
+    nan = {"c11": np.nan, "c13": np.nan, "c66": np.nan}
     if measure == "static":
         st = static_moduli(system, ("p", "s"))      # one factorisation for both
-        return st["p"].modulus, st["s"].modulus, st["p"].density
+        return {"p_modulus": st["p"].modulus, "shear_modulus": st["s"].modulus, **nan,
+                "density": st["p"].density}
     p, s = pulse_test(system, "p"), pulse_test(system, "s")
     rho = float(p.density)
-    return rho * float(p.velocity) ** 2, rho * float(s.velocity) ** 2, rho
+    return {"p_modulus": rho * float(p.velocity) ** 2,
+            "shear_modulus": rho * float(s.velocity) ** 2, **nan, "density": rho}
 
 
 def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key,
@@ -164,12 +180,9 @@ def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key
                for om, c in zip(omegas, cells)]
     else:                       # no cement, no lattice: one solve stands for every resolution
         res = [_member(pack, 0.0, scheme, omegas[0], cement, options)] * len(omegas)
-    values = {"p_modulus": res[0][0], "shear_modulus": res[0][1], "density": res[0][2],
-              "p_modulus_check": res[1][0] if len(res) > 1 else np.nan,
-              "shear_modulus_check": res[1][1] if len(res) > 1 else np.nan,
-              "p_modulus_check2": res[2][0] if len(res) > 2 else np.nan,
-              "shear_modulus_check2": res[2][1] if len(res) > 2 else np.nan,
-              "wall_time": time.perf_counter() - t0}
+    values = {f"{name}{suffix}": res[k][name] if k < len(res) else np.nan
+              for k, suffix in enumerate(_RESOLUTION_SUFFIX) for name in MODULI}
+    values.update(density=res[0]["density"], wall_time=time.perf_counter() - t0)
     _atomic_netcdf(xr.Dataset({k: ((), v) for k, v in values.items()},
                               attrs={"options_key": key}), path)
     return values
@@ -274,13 +287,17 @@ def _member(pack, fraction, scheme, omega, cement, options, cells=None):
                                  slab_thickness=options["slab"] * 2 * pack.radii.max())
     else:
         system = acoustic_system(pack, slab_thickness=options["slab"] * 2 * pack.radii.max())
-    return _moduli(system, options["measure"])
+    return _moduli(system, options["measure"], options.get("anisotropy", "isotropic"))
+
+
+def _member_variables():
+    """Names of the per-member values a member task returns (and its stage file holds)."""
+    return [f"{name}{suffix}" for suffix in _RESOLUTION_SUFFIX for name in MODULI] + \
+        ["density", "wall_time"]
 
 
 def _store(out, i, k, values):
-    for var in ("p_modulus", "shear_modulus", "density", "p_modulus_check",
-                "shear_modulus_check", "p_modulus_check2", "shear_modulus_check2",
-                "wall_time"):
+    for var in _member_variables():
         out[var][i, k] = values.get(var, np.nan)
 
 
@@ -289,8 +306,9 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
                size=(4.0, 4.0, 12.0),
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
-               resolution_check2=0.0, interface="facet", measure="static", slab=1.0,
-               strain_step=5e-4, unload_step=1e-4, workdir, scheduler=None, jobs=1, progress=False):
+               resolution_check2=0.0, interface="facet", measure="static", anisotropy=None,
+               slab=1.0, strain_step=5e-4, unload_step=1e-4, workdir, scheduler=None, jobs=1,
+               progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
     Parameters
@@ -343,6 +361,11 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     interface : str
         Grain–cement interface rule (:mod:`md.interface`).
     measure : {"static", "pulse"}
+    anisotropy : {"ti", "isotropic"}, optional
+        ``"ti"`` (default with ``measure="static"``): the five constants of the transversely
+        isotropic sample, C11, C13, C33, C44, C66 (:func:`md.static.static_stiffness`, five
+        loads on one factorisation); ``"isotropic"`` (the only one with ``"pulse"``): the
+        vertical P and S moduli C33 and C44 alone.
     slab : float
         Thickness of the slabs the sample is cut into along z for the moduli, largest grain
         diameters (``> 0``); the interior strain is fitted through the slabs between the two
@@ -367,7 +390,9 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     -------
     xarray.Dataset
         Dimensions ``point`` (the depths, in the order given) and ``scheme``: ``p_modulus``,
-        ``shear_modulus`` (Pa) and the same at the coarser resolution (``p_modulus_check``,
+        ``shear_modulus`` (Pa; C33 and C44), with ``anisotropy="ti"`` also ``c11``, ``c13``,
+        ``c66`` (Pa; NaN otherwise; each of the five also at the checks, ``c11_check``,
+        ``c11_check2``, ...), the same at the coarser resolution (``p_modulus_check``,
         ``shear_modulus_check``), ``density`` (kg/m³, dry sample), their resolution errors
         ``p_modulus_error``, ``shear_modulus_error`` (NaN without ``resolution_check``), the
         moduli at ``resolution_check2`` (``p_modulus_check2``, ``shear_modulus_check2``) and
@@ -438,6 +463,13 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
         raise ValueError(f"schemes must be distinct names from {SCHEMES}; got {schemes}")
     if measure not in MEASURES:
         raise ValueError(f"measure must be one of {MEASURES}; got {measure!r}")
+    if anisotropy is None:
+        anisotropy = "ti" if measure == "static" else "isotropic"
+    if anisotropy not in ANISOTROPY:
+        raise ValueError(f"anisotropy must be one of {ANISOTROPY}; got {anisotropy!r}")
+    if anisotropy == "ti" and measure != "static":
+        raise ValueError("anisotropy 'ti' needs measure 'static' (the pulse test gives the "
+                         "vertical velocities only)")
     if not resolution >= 1:
         raise ValueError(f"resolution must be >= 1; got {resolution}")
     if resolution_check != 0 and not 1 <= resolution_check < resolution:
@@ -462,14 +494,12 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     lattice_constants(cement, 1.0, rotations=True)     # the rotating lattice takes this cement
     options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
                "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash(),
-               "compaction": compaction, "cement_history": cement_history}
+               "compaction": compaction, "cement_history": cement_history,
+               "anisotropy": anisotropy}
     omegas = [float(w) for w in (resolution, resolution_check, resolution_check2) if w]
     n, m = stress.size, len(schemes)
     shape = (n, m)
-    out = {k: np.full(shape, np.nan) for k in ("p_modulus", "shear_modulus", "density",
-                                               "p_modulus_check", "shear_modulus_check",
-                                               "p_modulus_check2", "shear_modulus_check2",
-                                               "saturation", "porosity", "wall_time",
+    out = {k: np.full(shape, np.nan) for k in (*_member_variables(), "saturation", "porosity",
                                                "cement_window")}
     overflow = np.zeros(shape, np.int8)
     per_depth = {k: np.full(n, np.nan) for k in ("porosity_pack", "stress_reached",
@@ -549,7 +579,7 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     data.update({k: (("point",), v) for k, v in per_depth.items()})
     return xr.Dataset(data, coords={"scheme": list(schemes)},
                       attrs={"resolution": float(resolution), "compaction": compaction,
-                             "cement_history": cement_history,
+                             "cement_history": cement_history, "anisotropy": anisotropy,
                              "resolution_check": float(resolution_check),
                              "resolution_check2": float(resolution_check2),
                              "interface": interface, "measure": measure, "rotations": 1,

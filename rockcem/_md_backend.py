@@ -21,7 +21,8 @@ MD_DEPTH_VARIABLES = ("md_stress", "md_stress_present", "md_pack_porosity", "md_
 #: Diagnostic variables per MD model member and depth.
 MD_MODEL_VARIABLES = ("vp_error_resolution", "vs_error_resolution", "vp_error_sample",
                       "vs_error_sample", "vp_error", "vs_error", "md_trusted",
-                      "md_resolution_asymptotic", "md_density", "md_wall_time")
+                      "md_within_bounds", "md_resolution_asymptotic", "md_density",
+                      "md_wall_time", "thomsen_epsilon", "thomsen_gamma", "thomsen_delta")
 #: Default largest total error of a trusted MD member, relative to its velocity.
 TRUST_THRESHOLD = 0.05
 
@@ -122,8 +123,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     from md.along_depth import carry_down
     from md.convergence import resolution_error
 
-    from .bounds import hashin_shtrikman_average
-    from .fluids import gassmann
+    from .bounds import hashin_shtrikman_average, hashin_shtrikman_upper
 
     n = depth.size
     idx = md_depth_indices(depth, max_stress, params)
@@ -164,6 +164,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                        resolution_check=params["resolution_check"],
                        resolution_check2=params["resolution_check2"],
                        interface=params["interface"], measure=params["measure"],
+                       anisotropy=params.get("anisotropy", "ti"),
                        slab=params["slab"], workdir=work, scheduler=scheduler, jobs=jobs,
                        progress=progress)
             for k in range(params["samples"])]
@@ -190,6 +191,12 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
     beta_c = (phi_pack - phi) / (1.0 - phi)
     mineral = hashin_shtrikman_average([grain.K, cement.K], [grain.G, cement.G],
                                        np.stack([1.0 - beta_c, beta_c], axis=-1))
+    # The upper Hashin-Shtrikman bound of each sample's dry frame: grain, cement, empty pores.
+    upper = hashin_shtrikman_upper(
+        [grain.K, cement.K, 0.0], [grain.G, cement.G, 0.0],
+        np.stack([(1.0 - phi) * (1.0 - beta_c), (1.0 - phi) * beta_c, phi], axis=-1))
+    ti = params.get("anisotropy", "ti") == "ti"
+
     def saturate(fluid):
         """The MD members saturated with ``fluid``: (models, per-model diagnostics)."""
         # Saturated bulk density of the core window (eq. 24 of Carcione et al. 2022) with the
@@ -198,19 +205,20 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         K_fluid, rho_fluid = (np.asarray(v)[idx] if np.ndim(v) else v for v in (fluid.K, fluid.rho))
         rho = (1.0 - phi) * (grain.rho * (1.0 - beta_c) + cement.rho * beta_c) + phi * rho_fluid
 
-        def velocities(M, G):
-            # The pack is transversely isotropic (compacted along z): M is its vertical C33 and G
-            # its C44. K_dry = M - 4/3 G treats it as isotropic; on a 96-grain pack anisotropic
-            # Gassmann on C33 (C13 from md.bonded) gives Vp 0.9 % higher.
-            K_dry = M - 4.0 / 3.0 * G
-            K_sat = gassmann(K_dry, mineral.K, K_fluid, phi)
-            return (K_dry, G, K_sat, np.sqrt((K_sat + 4.0 / 3.0 * G) / rho), np.sqrt(G / rho))
+        def velocities(scheme, suffix=""):
+            """``(K_dry, G_dry, K_sat, vp, vs, epsilon, gamma, delta, sound)`` of every
+            sample at one resolution (GPa, km/s; shape (samples, depths))."""
+            c = {name: stack(f"{name}{suffix}", scheme) / 1e9 for name in MD_MODULI}
+            return saturated_moduli(c, mineral.K, K_fluid, phi, rho, ti=ti)
 
         count = len(runs)
         models, per_model = {}, {}
         for label, scheme in zip(md_labels(params), params["schemes"]):
-            K_dry, G_dry, K_sat, vp, vs = velocities(stack("p_modulus", scheme) / 1e9,
-                                                     stack("shear_modulus", scheme) / 1e9)
+            K_dry, G_dry, K_sat, vp, vs, eps, gam, dlt, sound = velocities(scheme)
+            # A frame stiffer than the Hashin-Shtrikman upper bound of its solid and empty
+            # pores is not a rock (a resolution artefact of a nearly filled lattice).
+            with np.errstate(invalid="ignore"):
+                sound &= (K_dry <= upper.K * (1 + 1e-9)) & (G_dry <= upper.G * (1 + 1e-9))
             omegas = [w for w in (params["resolution"], params["resolution_check"],
                                   params["resolution_check2"]) if w]
             if len(omegas) > 1:
@@ -218,8 +226,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                 # resolution change together; md.convergence): first order from two resolutions,
                 # the observed order from three where they are in the asymptotic range; averaged
                 # over the samples, asymptotic where every sample is.
-                coarse = [velocities(stack(f"p_modulus_{c}", scheme) / 1e9,
-                                     stack(f"shear_modulus_{c}", scheme) / 1e9)[3:]
+                coarse = [velocities(scheme, f"_{c}")[3:5]
                           for c in ("check", "check2")[:len(omegas) - 1]]
                 vp_res, vp_asym = resolution_error(omegas, np.stack([vp] + [c[0] for c in coarse]))
                 vs_res, vs_asym = resolution_error(omegas, np.stack([vs] + [c[1] for c in coarse]))
@@ -232,8 +239,9 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
                               np.full(idx.size, np.nan) for v in (vp, vs))
             vp_tot, vs_tot = total_error(vp_res, vp_smp), total_error(vs_res, vs_smp)
-            trusted = trusted_members(vp.mean(0), vp_tot, vs.mean(0), vs_tot,
-                                      params.get("trust_threshold", TRUST_THRESHOLD))
+            sound = sound.all(0)
+            trusted = sound & trusted_members(vp.mean(0), vp_tot, vs.mean(0), vs_tot,
+                                              params.get("trust_threshold", TRUST_THRESHOLD))
             models[label] = SimpleNamespace(K_dry=full(K_dry.mean(0)), G_dry=full(G_dry.mean(0)),
                                             K_sat=full(K_sat.mean(0)), G_sat=full(G_dry.mean(0)),
                                             vp=full(vp.mean(0)), vs=full(vs.mean(0)),
@@ -243,6 +251,10 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                                 "vp_error_sample": full(vp_smp), "vs_error_sample": full(vs_smp),
                                 "vp_error": full(vp_tot), "vs_error": full(vs_tot),
                                 "md_trusted": full(trusted.astype(float)),
+                                "md_within_bounds": full(sound.astype(float)),
+                                "thomsen_epsilon": full(eps.mean(0)),
+                                "thomsen_gamma": full(gam.mean(0)),
+                                "thomsen_delta": full(dlt.mean(0)),
                                 "md_resolution_asymptotic": full(asym),
                                 "md_density": full(rho.mean(0)),
                                 "md_wall_time": full(stack("wall_time", scheme).sum(0))}
@@ -250,6 +262,71 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
 
     saturated = [saturate(f) for f in fluids]
     return [m for m, _ in saturated], per_depth, [d for _, d in saturated]
+
+
+#: The dry moduli of an MD member in its stage files (Pa; md.along_depth.MODULI).
+MD_MODULI = ("p_modulus", "shear_modulus", "c11", "c13", "c66")
+
+
+def saturated_moduli(c, K_min, K_fluid, phi, rho, *, ti=True):
+    r"""Dry and saturated moduli and vertical velocities of MD samples.
+
+    Parameters
+    ----------
+    c : dict of ndarray
+        The dry moduli, GPa: ``p_modulus`` (C33), ``shear_modulus`` (C44) and, for ``ti``,
+        ``c11``, ``c13``, ``c66``.
+    K_min, K_fluid, phi, rho
+        Mineral and fluid bulk moduli (GPa), porosity and saturated density (g/cm³),
+        broadcastable to the moduli.
+    ti : bool
+        ``True``: the sample is transversely isotropic (axis z): its dry bulk modulus is the
+        one under hydrostatic stress (:func:`rockcem.anisotropy.ti_bulk_modulus`), it is
+        saturated by anisotropic Gassmann (:func:`rockcem.anisotropy.ti_gassmann`; Gassmann
+        1951, Brown & Korringa 1975), the velocities are the vertical ones,
+        :math:`\sqrt{C^{sat}_{33}/\rho}` and :math:`\sqrt{C_{44}/\rho}` (Thomsen 1986,
+        eq. 9), and Thomsen's parameters are the saturated rock's
+        (:func:`rockcem.anisotropy.thomsen`). Where a sample's constants are not a
+        positive-definite stiffness no stiffer than its mineral (the noise of a small pack),
+        it falls back to the isotropic reading and is not ``sound``. ``False``: the isotropic
+        approximation :math:`K_{dry} = C_{33} - \tfrac43 C_{44}` with isotropic Gassmann
+        (Thomsen's parameters NaN).
+
+    Returns
+    -------
+    tuple of ndarray
+        ``(K_dry, G_dry, K_sat, vp, vs, epsilon, gamma, delta, sound)``; ``G_dry`` is C44
+        (the fluid carries no shear), ``sound`` where the TI reading holds (all True for the
+        isotropic one).
+    """
+    from .anisotropy import thomsen, ti_bulk_modulus, ti_gassmann
+    from .fluids import gassmann
+
+    c33, c44 = c["p_modulus"], c["shear_modulus"]
+    K_min, K_fluid, phi, rho = np.broadcast_arrays(K_min, K_fluid, phi, rho, c33)[:4]
+    K_dry = c33 - 4.0 / 3.0 * c44
+    K_sat = gassmann(K_dry, K_min, K_fluid, phi)
+    vp, vs = np.sqrt((K_sat + 4.0 / 3.0 * c44) / rho), np.sqrt(c44 / rho)
+    nan = np.full(c33.shape, np.nan)
+    eps, gam, dlt = nan.copy(), nan.copy(), nan.copy()
+    sound = np.ones(c33.shape, bool)
+    if not ti:
+        return K_dry, c44, K_sat, vp, vs, eps, gam, dlt, sound
+    c11, c13, c66 = c["c11"], c["c13"], c["c66"]
+    c12 = c11 - 2.0 * c66
+    with np.errstate(invalid="ignore"):
+        sound = (np.isfinite(c11) & np.isfinite(c13) & np.isfinite(c66) & (c11 > c66)
+                 & (c13**2 < c33 * (c11 - c66)) & (c44 > 0)
+                 & ((2.0 * c11 + c33 + 2.0 * c12 + 4.0 * c13) / 9.0 <= K_min))
+    if np.any(sound):
+        k = sound
+        K_dry[k] = ti_bulk_modulus(c11[k], c13[k], c33[k], c66[k])
+        sat = ti_gassmann(c11[k], c13[k], c33[k], c44[k], c66[k], K_min[k], K_fluid[k], phi[k])
+        K_sat[k] = ti_bulk_modulus(sat.c11, sat.c13, sat.c33, sat.c66)
+        vp[k] = np.sqrt(sat.c33 / rho[k])
+        t = thomsen(sat.c11, sat.c13, sat.c33, sat.c44, sat.c66)
+        eps[k], gam[k], dlt[k] = t.epsilon, t.gamma, t.delta
+    return K_dry, c44, K_sat, vp, vs, eps, gam, dlt, sound
 
 
 def total_error(resolution, sample) -> np.ndarray:
@@ -316,6 +393,14 @@ def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
                    "resolution_check)")
             lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[flagged])} m "
                          f"is not trusted: {why} (md_trusted = 0)")
+        outside = np.isfinite(diag["md_within_bounds"]) & (diag["md_within_bounds"] == 0)
+        if np.any(outside):
+            lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[outside])} m: "
+                         "its dry frame is stiffer than the Hashin-Shtrikman upper bound of its "
+                         "grains, cement and empty pores, or its five constants are not a "
+                         "positive-definite stiffness within its mineral's (the noise of a "
+                         "small pack; the isotropic reading is used there): not trusted "
+                         "(md_within_bounds = 0)")
         asym = diag["md_resolution_asymptotic"]
         off = np.isfinite(asym) & (asym == 0)
         if np.any(off):

@@ -187,6 +187,11 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                               "a third, coarser Omega: the grid convergence index with the "
                               "observed order, flagged where not asymptotic (default "
                               "resolution_check / 1.5 where that is >= 1; 0 = none)"),
+        "anisotropy": ("ti", "string", "",
+                       "'ti': the five constants of the transversely isotropic sample, its bulk "
+                       "modulus under hydrostatic stress, anisotropic Gassmann, vertical "
+                       "velocities and Thomsen's parameters; 'isotropic': K_dry = M - 4/3 G "
+                       "and isotropic Gassmann (measure = 'pulse' needs it)"),
         "trust_threshold": (0.05, "number", "1",
                             "largest total error (resolution and sample size in quadrature) "
                             "of a trusted MD member, relative to its velocity; a member above "

@@ -58,8 +58,9 @@ def test_md_member_at_the_chosen_depths_only(result):
         + phi * fluid("water").rho
     md = ds.sel(model="md", depth=ds.depth[ran])
     np.testing.assert_allclose(md.md_density, rho, rtol=1e-12)
-    np.testing.assert_allclose(md.vp, np.sqrt((md.K_sat + 4 / 3 * md.G_sat) / md.md_density),
-                               rtol=1e-12)
+    # Vertical velocities of the transversely isotropic sample (the isotropic identity
+    # vp^2 rho = K_sat + 4/3 G is tested with anisotropy = "isotropic" below).
+    np.testing.assert_allclose(md.vs, np.sqrt(md.G_sat / md.md_density), rtol=1e-12)
     assert np.all(md.K_sat > md.K_dry) and np.all(md.G_sat == md.G_dry)
     # Bounds: an isotropic solid has Vp/Vs >= sqrt(4/3); the dry frame lies below the upper
     # Hashin-Shtrikman bound of its solid (quartz grains and cement) with empty pores.
@@ -86,7 +87,9 @@ def test_md_velocity_rises_down_the_path(result):
 
 def test_uncemented_depth_gives_the_packs_static_moduli(result):
     """Above the onset of quartz cement (S_c = 0) the MD dry moduli are those of the uncemented
-    pack, computed here directly from the stage file with md (rotations, static solves)."""
+    pack, computed here directly from the stage file with md (rotations, static solves): G is
+    C44, K the transversely isotropic sample's bulk modulus under hydrostatic stress from its
+    five constants (rockcem.anisotropy.ti_bulk_modulus), below M - 4/3 G."""
     import glob
 
     import md
@@ -99,10 +102,17 @@ def test_uncemented_depth_gives_the_packs_static_moduli(result):
                                                     "reconstruct_*.nc"))]
     [pack] = [p for p in packs if abs(p.metadata["porosity_target"] - igv) < 1e-9]
     system = md.acoustic_system(pack, slab_thickness=2 * pack.radii.max())
+    from md.static import static_stiffness
+
+    from rockcem.anisotropy import ti_bulk_modulus
+
     M = md.static_modulus(system, "p").modulus / 1e9
     G = md.static_modulus(system, "s").modulus / 1e9
+    c = static_stiffness(system)
+    K = ti_bulk_modulus(c.c11 / 1e9, c.c13 / 1e9, c.c33 / 1e9, c.c66 / 1e9)
     assert float(shallow.G_dry) == pytest.approx(G, rel=1e-9)
-    assert float(shallow.K_dry) == pytest.approx(M - 4 / 3 * G, rel=1e-9)
+    assert float(shallow.K_dry) == pytest.approx(float(K), rel=1e-9)
+    assert float(shallow.K_dry) < M - 4 / 3 * G
 
 
 def test_resumed_run_equals_the_first(result, monkeypatch):
@@ -441,3 +451,70 @@ def test_total_error_and_trust(result):
     np.testing.assert_array_equal(m.md_trusted.values == 1, rel <= 0.5)
     with pytest.raises(ValueError, match="trust_threshold"):
         run_scene(tiny(path, trust_threshold=1.5))
+
+
+def test_saturated_moduli_of_an_isotropic_frame_equal_isotropic_gassmann():
+    """Five constants of an isotropic frame (C11 = C33, C13 = C33 - 2 C44, C66 = C44): the TI
+    reading (bulk modulus under hydrostatic stress, anisotropic Gassmann, vertical velocity)
+    equals the isotropic one, and Thomsen's parameters are 0."""
+    from rockcem._md_backend import saturated_moduli
+
+    c33, c44 = np.array([[9.0, 20.0]]), np.array([[3.0, 8.0]])
+    c = {"p_modulus": c33, "shear_modulus": c44, "c11": c33.copy(), "c13": c33 - 2 * c44,
+         "c66": c44.copy()}
+    args = (37.0, np.array([2.4, 2.6]), np.array([[0.3, 0.1]]), np.array([[2.2, 2.5]]))
+    ti = saturated_moduli(c, *args, ti=True)
+    iso = saturated_moduli(c, *args, ti=False)
+    for a, b in zip(ti[:5], iso[:5]):
+        np.testing.assert_allclose(a, b, rtol=1e-12)
+    np.testing.assert_allclose(np.stack(ti[5:8]), 0.0, atol=1e-12)
+    assert ti[8].all() and np.all(np.isnan(np.stack(iso[5:8])))
+
+
+def test_saturated_moduli_of_a_ti_frame():
+    """A TI frame (C11 < C33, as a vertically compacted pack): the dry bulk modulus is the
+    Reuss sum of the compliance (numpy's inverse of the 6x6 stiffness), below C33 - 4/3 C44;
+    the vertical S velocity is sqrt(C44 / rho); a sample whose constants are not positive
+    definite falls back to the isotropic reading and is not sound."""
+    from rockcem._md_backend import saturated_moduli
+
+    c11, c13, c33, c44, c66 = 6.0, 1.5, 9.0, 3.0, 2.4
+    c = {k: np.array([v, v]) for k, v in zip(("c11", "c13", "p_modulus", "shear_modulus",
+                                              "c66"), (c11, c13, c33, c44, c66))}
+    c["c13"] = np.array([c13, 9.0])                 # 81 > 9 (6 - 2.4): not positive definite
+    K_dry, G, K_sat, vp, vs, eps, gam, dlt, sound = saturated_moduli(c, 37.0, 2.4, 0.25, 2.2)
+    C = np.zeros((6, 6))
+    c12 = c11 - 2 * c66
+    C[:3, :3] = [[c11, c12, c13], [c12, c11, c13], [c13, c13, c33]]
+    C[3, 3] = C[4, 4] = c44
+    C[5, 5] = c66
+    assert K_dry[0] == pytest.approx(1.0 / np.linalg.inv(C)[:3, :3].sum(), rel=1e-12)
+    assert K_dry[0] < c33 - 4 / 3 * c44
+    assert sound.tolist() == [True, False]
+    assert K_dry[1] == pytest.approx(c33 - 4 / 3 * c44)
+    np.testing.assert_allclose(vs, np.sqrt(c44 / 2.2), rtol=1e-12)
+    assert eps[0] < 0 and gam[0] == pytest.approx((c66 - c44) / (2 * c44))
+    assert np.isnan(eps[1])
+    assert vp[0] > np.sqrt(c33 / 2.2)               # the fluid stiffens C33
+
+
+def test_md_member_reports_thomsen_and_keeps_the_isotropic_option(result):
+    """The default reads the five constants (Thomsen's parameters finite at the MD depths,
+    NaN elsewhere); anisotropy = 'isotropic' is the former K_dry = M - 4/3 G with isotropic
+    Gassmann on the same C33 and C44: the same vertical S velocity, and a dry bulk modulus
+    above the TI sample's bulk modulus under hydrostatic stress (M - 4/3 G leaves out the
+    softer horizontal directions)."""
+    ds, path = result
+    md = ds.sel(model="md")
+    ran = np.isfinite(md.vp.values)
+    sound = md.md_within_bounds.values[ran] == 1
+    for name in ("thomsen_epsilon", "thomsen_gamma", "thomsen_delta"):
+        assert np.all(np.isfinite(md[name].values[ran][sound]))
+        assert np.all(np.isnan(md[name].values[~ran]))
+    iso = run_scene(tiny(path, anisotropy="isotropic")).sel(model="md").isel(depth=ran)
+    assert np.all(np.isnan(iso.thomsen_epsilon))
+    np.testing.assert_allclose(iso.vs, md.vs.values[ran], rtol=1e-12)
+    np.testing.assert_allclose(iso.G_dry, md.G_dry.values[ran], rtol=1e-12)
+    assert np.all(md.K_dry.values[ran][sound] < iso.K_dry.values[sound])
+    np.testing.assert_allclose(iso.vp, np.sqrt((iso.K_sat + 4 / 3 * iso.G_sat) / iso.md_density),
+                               rtol=1e-12)
