@@ -42,7 +42,8 @@ import numpy as np
 
 from .cement import (HARD_CEMENT, LATTICE_OFFSETS, CementLattice, CementMaterial,
                      lattice_constants)
-from .interface import INTERFACES, bond_partners, interface_stiffness
+from .interface import (INTERFACES, bond_partners, film_bridges, film_thickness,
+                        interface_stiffness, nearest_grain)
 from .space import Box, minimum_image
 from .state import Pack
 
@@ -474,8 +475,20 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         The pack at mechanical equilibrium (after settling or compaction).
     lattice : CementLattice, optional
         The pack's cement lattice (:func:`md.cement.cement_lattice`); omit for no cement.
-    cemented : ndarray of bool, optional
-        Cemented pore cells of ``lattice`` (:func:`md.cement.grow_cement`).
+    cemented : ndarray of bool or float, optional
+        Cemented pore cells of ``lattice`` (:func:`md.cement.grow_cement`), or the fraction of
+        each pore cell the cement fills, in [0, 1] (:func:`md.growth.cement_fill`). A full
+        cell is the boolean path's cell exactly (all fills 0 or 1 take that path). A partly
+        filled cell holding :math:`f` of a cell's cement is a *film cell* of its nearest grain
+        (:func:`md.interface.nearest_grain`): mass and moment of inertia :math:`f` times a
+        cell's, its bond to that grain alone, :math:`f` times a full cell's; its lattice bonds
+        two half-bonds in series, :math:`2f_pf_q/(f_p+f_q)` times eq. 6's, and none to a film
+        cell of another grain. Films meet only in *bridges*, grain–grain cement bonds over the
+        disc where the gap between two grains is under the sum of their film thicknesses
+        (:func:`md.interface.film_bridges`), less the part full cells resolve; a film that
+        joins nothing but its grain is folded into it (:func:`_lump_free_film`). So a coating
+        thinner than a cell is the bridges it makes, whose size follows the film thickness, not
+        spots of cells, and converges with the resolution.
     cement : CementMaterial
         Default :data:`md.cement.HARD_CEMENT`.
     rule : {"waves", "paper"}
@@ -544,6 +557,9 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
             "rotations": bool(rotations), "restitution": e,
             "mean_radius": float(r.mean())}
     inertia = 0.4 * m_grain * r**2
+    fill = None
+    if lattice is not None:
+        cemented, fill = _cement_fill(cemented, lattice.index.size)
     if lattice is None or not np.any(cemented):
         rot = ({"arm_i": garm_i, "arm_j": garm_j, "lattice_arm": np.zeros(9),
                 "inertia": inertia} if rotations else {})
@@ -551,10 +567,6 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
             x, m_grain, n_g, pack.box, gi.astype(np.int32), gj.astype(np.int32), gnrm, gkn, gkt,
             ggn, ggt, np.zeros((0, 9), np.int32), np.zeros(9), np.zeros(9),
             thickness, extent, meta, **rot)
-    cemented = np.asarray(cemented, dtype=bool)
-    if cemented.shape != lattice.index.shape:
-        raise ValueError(f"cemented must have the lattice's {lattice.index.size} pore cells; "
-                         f"got shape {cemented.shape}")
     nx, ny, nz = lattice.shape
     if min(nx, ny) < 3:
         raise ValueError("the cement lattice needs at least 3 cells across x and y")
@@ -576,11 +588,26 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
     order = np.argsort(cj, kind="stable")
     ci, cj, cnrm = ci[order], cj[order], cnrm[order]
     centres = lattice.centres()[cemented]
+    m_cell = np.full(n_c, m_c)
+    extra = None
+    if fill is not None:        # partly filled cells: the film of their nearest grain
+        f = fill[cemented]
+        owner = nearest_grain(centres, x, r, pack.box)
+        film = f < 1.0
+        keep = ~film[cj] | (ci == owner[cj])
+        ci, cj, cnrm = ci[keep], cj[keep], cnrm[keep]
+        n_gc = int(ci.size)
+        table, extra = _film_lattice(table, f, owner, n_g, lat_kn, lat_kt, cw)
+        n_lattice = int(np.count_nonzero(table >= 0))
+        m_cell = m_c * f
     partner = (bond_partners(ci, centres[cj], x, r, pack.box) if interface == "facet"
                else None)
-    kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table, n_g, cw, mat, cement, interface,
-                                       partner, paper_normal_factor=normal_factor)
-    gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_c, zeta)
+    kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table if extra is None else extra[0],
+                                       n_g, cw, mat, cement, interface, partner,
+                                       paper_normal_factor=normal_factor)
+    if fill is not None:        # a cell holding f of its cement: f of its bond to the grain
+        kn_gc, kt_gc = kn_gc * f[cj], kt_gc * f[cj]
+    gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_cell[cj], zeta)
     bond_i = np.concatenate([gi, ci]).astype(np.int32)
     bond_j = np.concatenate([gj, cj.astype(np.int64) + n_g]).astype(np.int32)
     meta.update(n_cement=int(n_c), n_grain_cement=int(n_gc), n_lattice_bonds=n_lattice,
@@ -591,13 +618,165 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         rot = {"arm_i": np.concatenate([garm_i, r[ci]]),
                "arm_j": np.concatenate([garm_j, length - r[ci]]),
                "lattice_arm": 0.5 * cw * np.sqrt(_LATTICE_LENGTH2),
-               "inertia": np.concatenate([inertia, np.full(n_c, m_c * cw**2 / 6.0)])}
+               "inertia": np.concatenate([inertia, m_cell * cw**2 / 6.0])}
+    parts = [(bond_i, bond_j, np.concatenate([gnrm, cnrm]), np.concatenate([gkn, kn_gc]),
+              np.concatenate([gkt, kt_gc]), np.concatenate([ggn, gn_gc]),
+              np.concatenate([ggt, gt_gc]),
+              rot.get("arm_i"), rot.get("arm_j"))]
+    if fill is not None:
+        parts += _film_bonds(extra, f, owner, film, ci, cj, cnrm, partner, centres, gi, gj,
+                             gkn, normal_factor, x, r, pack, cement, cw, (lat_kn, lat_kt),
+                             m_grain, zeta, meta)
+    merged = [np.concatenate(c) if c[0] is not None else None for c in zip(*parts)]
+    positions = np.concatenate([x, centres])
+    masses = np.concatenate([m_grain, m_cell])
+    inertia_all = rot.get("inertia")
+    if fill is not None:
+        positions, masses, inertia_all, merged, table = _lump_free_film(
+            positions, masses, inertia_all, merged, table, film, owner, n_g, pack.box, meta)
+    if rotations:
+        rot["arm_i"], rot["arm_j"], rot["inertia"] = merged[7], merged[8], inertia_all
     return AcousticSystem(
-        np.concatenate([x, centres]), np.concatenate([m_grain, np.full(n_c, m_c)]), n_g,
-        pack.box, bond_i, bond_j, np.concatenate([gnrm, cnrm]),
-        np.concatenate([gkn, kn_gc]), np.concatenate([gkt, kt_gc]),
-        np.concatenate([ggn, gn_gc]), np.concatenate([ggt, gt_gc]),
-        table, lat_kn, lat_kt, thickness, extent, meta, **rot)
+        positions, masses, n_g, pack.box, merged[0].astype(np.int32),
+        merged[1].astype(np.int32), *merged[2:7], table, lat_kn, lat_kt, thickness, extent,
+        meta, **rot)
+
+
+def _lump_free_film(positions, masses, inertia, bonds, table, film, owner, n_g, box, meta):
+    """Fold into its grain every film cell that joins nothing but that grain.
+
+    A partly filled cell is bonded to its own grain and to film cells of the same grain only
+    (:func:`_film_lattice`), so a film no full cell touches is an appendage of its grain: in a
+    static solve it carries no force (it bears on one body only), in a wave it moves with the
+    grain it is welded to. Its particles are removed and their mass added to the grain, their
+    moment of inertia as that of a uniform shell at their distance :math:`\rho` from the
+    grain's centre, :math:`\tfrac23 m\rho^2`, plus their own :math:`\tfrac16 m c_w^2`
+    (exact for a rigid uniform film). Bonds of the removed particles are dropped and the
+    others renumbered. Updates ``meta``; returns the new ``positions, masses, inertia, bonds,
+    table``."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    n = masses.size
+    n_c = n - n_g
+    bi, bj = bonds[0].astype(np.int64), bonds[1].astype(np.int64)
+    is_film = np.zeros(n, bool)
+    is_film[n_g:] = film
+    cement = np.arange(n) >= n_g
+    ff = cement[bi] & cement[bj] & is_film[bi] & is_film[bj]
+    graph = sp.coo_matrix((np.ones(int(ff.sum())), (bi[ff] - n_g, bj[ff] - n_g)),
+                          shape=(n_c, n_c))
+    _, label = connected_components(graph, directed=False)
+    touches_bulk = cement[bi] & cement[bj] & (is_film[bi] != is_film[bj])
+    anchored = np.zeros(label.max(initial=0) + 1, bool)
+    ends = np.concatenate([bi[touches_bulk], bj[touches_bulk]])
+    anchored[label[ends[is_film[ends]] - n_g]] = True
+    free = np.zeros(n, bool)
+    free[n_g:] = film & ~anchored[label]
+    if not free.any():
+        meta.update(n_film_lumped=0)
+        return positions, masses, inertia, bonds, table
+    idx = np.flatnonzero(free)
+    g = owner[idx - n_g]
+    masses = masses.copy()
+    np.add.at(masses, g, masses[idx])
+    if inertia is not None:
+        inertia = inertia.copy()
+        rho2 = np.sum(minimum_image(positions[idx] - positions[g], box) ** 2, axis=1)
+        np.add.at(inertia, g, inertia[idx] + 2.0 / 3.0 * masses[idx] * rho2)
+    keep = ~free
+    new = np.cumsum(keep) - 1
+    own = keep[bi] & keep[bj]
+    bonds = [b[own] if b is not None else None for b in bonds]
+    bonds[0] = new[bonds[0].astype(np.int64)]
+    bonds[1] = new[bonds[1].astype(np.int64)]
+    table = table[keep[n_g:]]
+    table = np.where(table >= 0, new[np.maximum(table, 0)], -1).astype(np.int32)
+    meta.update(n_film_lumped=int(idx.size), n_cement=int(n_c - idx.size))
+    return (positions[keep], masses[keep], None if inertia is None else inertia[keep], bonds,
+            table)
+
+
+def _cement_fill(cemented, n):
+    """``cemented`` of :func:`acoustic_system` as ``(cells, fill)``: the cemented pore cells
+    (bool) and, where some cell is partly filled, the fill fractions (else None, so that cells
+    full or empty take the boolean path unchanged)."""
+    c = np.asarray(cemented)
+    if c.shape != (n,):
+        raise ValueError(f"cemented must have the lattice's {n} pore cells; got shape {c.shape}")
+    if c.dtype == bool:
+        return c, None
+    if not (np.issubdtype(c.dtype, np.floating) or np.issubdtype(c.dtype, np.integer)):
+        raise ValueError(f"cemented must be bool or fill fractions in [0, 1]; got dtype "
+                         f"{c.dtype}")
+    f = c.astype(float)
+    if not np.all(np.isfinite(f) & (f >= 0.0) & (f <= 1.0)):
+        bad = f[~(np.isfinite(f) & (f >= 0.0) & (f <= 1.0))][0]
+        raise ValueError(f"cemented fill fractions must lie in [0, 1]; got {bad!r}")
+    if np.all((f == 0.0) | (f == 1.0)):
+        return f == 1.0, None
+    return f > 0.0, f
+
+
+def _film_lattice(table, f, owner, first, lat_kn, lat_kt, cw):
+    r"""Split the lattice bonds of partly filled cells off the neighbour table.
+
+    A bond between two cement particles holding fills :math:`f_p, f_q` is two half-bonds in
+    series, each through its own cell's cement, scaled by that cell's fill:
+    :math:`k = k_{lattice}\,2f_pf_q/(f_p + f_q)` (eq. 6 constants of
+    :func:`md.cement.lattice_constants`; 1 at full cells). A film cell belongs to its nearest
+    grain; two film cells of different grains are not bonded (the films meet only in a
+    bridge, :func:`md.interface.film_bridges`). Returns the table of the bonds between full
+    cells, and ``(table with every kept bond, p, q, direction, scale)`` of the others
+    (``p``, ``q`` particle indices)."""
+    film = f < 1.0
+    rows, cols = np.nonzero(table >= 0)
+    q = table[rows, cols] - first
+    cut = film[rows] & film[q] & (owner[rows] != owner[q])
+    full_table = table.copy()
+    full_table[rows[cut], cols[cut]] = -1
+    moved = ~cut & (film[rows] | film[q])
+    bulk = table.copy()
+    bulk[rows[cut | moved], cols[cut | moved]] = -1
+    fp, fq = f[rows[moved]], f[q[moved]]
+    scale = 2.0 * fp * fq / (fp + fq)
+    return bulk, (full_table, rows[moved] + first, q[moved] + first,
+                  cols[moved].astype(np.int64), scale)
+
+
+def _film_bonds(extra, f, owner, film, ci, cj, cnrm, partner, positions_cells, gi, gj, gkn,
+                normal_factor, x, r, pack, cement,
+                cw, lattice_k, m_grain, zeta, meta):
+    """The contact-bond blocks of a partly filled lattice: the scaled lattice bonds of film
+    cells (:func:`_film_lattice`; no dashpots, acting at mid-bond with rotations) and the
+    bridges the films make between grains (:func:`md.interface.film_bridges`), less the part
+    of each bridge that full cells already resolve (those bonded to one grain of the pair and
+    facing the other, :func:`md.interface.bond_partners`). Updates ``meta``."""
+    from .interface import interface_area
+
+    _, p, q, d, scale = extra
+    mat = pack.material
+    lat = (p, q, _LATTICE_NORMALS[d], lattice_k[0][d] * scale, lattice_k[1][d] * scale,
+           np.zeros(p.size), np.zeros(p.size),
+           0.5 * cw * np.sqrt(_LATTICE_LENGTH2[d]), 0.5 * cw * np.sqrt(_LATTICE_LENGTH2[d]))
+    thickness = film_thickness(owner, f * cw**3, r)
+    # the part of a pair's bridge whole cells already resolve: the full cells bonded to
+    # either grain and facing the other, half of their interface area from each side
+    full_bond = ~film[cj]
+    if partner is None:
+        partner = bond_partners(ci, positions_cells[cj], x, r, pack.box)
+    faces = full_bond & (partner >= 0)
+    covered = np.stack([ci[faces], partner[faces]], axis=1)
+    covered_area = 0.5 * interface_area(cnrm[faces], cw)
+    a_hertz = gkn / (normal_factor * mat.E_f)
+    bi, bj, nrm, kn, kt, arm_i, arm_j = film_bridges(
+        x, r, pack.box, thickness, mat, cement, np.stack([gi, gj], axis=1), a_hertz, covered,
+        covered_area)
+    gn, gt = dashpots(kn, kt, m_grain[bi], m_grain[bj], zeta)
+    meta.update(n_film_cells=int(np.count_nonzero(film)), n_film_bridges=int(bi.size),
+                cement_cells_volume=float(f.sum()), film_thickness_mean=float(
+                    np.mean(thickness)))
+    return [lat, (bi, bj, nrm, kn, kt, gn, gt, arm_i, arm_j)]
 
 
 def cement_block(shape, cell_width, cement: CementMaterial = HARD_CEMENT, *, rule="waves",

@@ -16,6 +16,7 @@ import numpy as np
 from .state import Pack
 
 __all__ = ["CementLattice", "cement_lattice", "grow_cement", "cement_order", "cement_sweep",
+           "cement_fill",
            "SCHEMES", "CONTACT", "SURFACE", "BODY",
            "CementMaterial", "HARD_CEMENT", "SOFT_CEMENT", "lattice_constants",
            "LATTICE_OFFSETS"]
@@ -281,4 +282,4 @@ def cement_lattice(pack: Pack, resolution=4.0, *, reach=None) -> CementLattice:
 
 
 # The growth schemes live in md.growth; their public names stay importable from here.
-from .growth import cement_order, cement_sweep, grow_cement  # noqa: E402
+from .growth import cement_fill, cement_order, cement_sweep, grow_cement  # noqa: E402

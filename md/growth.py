@@ -11,7 +11,7 @@ import numpy as np
 
 from .cement import CONTACT, SCHEMES, SURFACE, CementLattice
 
-__all__ = ["grow_cement", "cement_order", "cement_sweep"]
+__all__ = ["grow_cement", "cement_order", "cement_sweep", "cement_fill", "film_fill"]
 
 
 #: Uniforms drawn from the growth stream per call of the pore-body kernel (the result does not
@@ -282,3 +282,159 @@ def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> 
     cemented = np.zeros(lat.index.size, dtype=bool)
     cemented[order] = True
     return cemented
+
+
+def film_fill(distance, cell_width, volume, *, count=None) -> np.ndarray:
+    """Fill fractions of a film of uniform thickness on the grains holding ``volume`` cells.
+
+    Each pore cell is a slab of the distance-to-the-grains coordinate, one cell wide, from
+    :math:`s_i = \\max(d_i - c_w/2, 0)` (:math:`d_i` the distance of its centre to the
+    nearest grain surface; the cells of the first layer, whose cube reaches into the grain,
+    start at the surface). A film reaching :math:`\\tau` (in cells) fills
+
+    .. math:: f_i(\\tau) = \\min\\left(\\max\\left(\\tau - s_i/c_w, 0\\right), 1\\right),
+
+    and :math:`\\tau` is solved (bisection to machine precision; :math:`\\sum f_i` is continuous
+    and non-decreasing in :math:`\\tau`) so that the counted cells hold ``volume`` cells of
+    cement. (This project's sub-cell coating: the source's coating, Sect. III D of García &
+    Medina, fills whole cells by increasing distance, which a film thinner than a cell turns
+    into spots; here every surface cell holds its share of the film, and a cell is full once
+    the film passes it, :math:`\\tau \\ge s_i/c_w + 1`: in the source's order, so
+    a thick coating is the source's, with a graded front. While :math:`\\tau < 1` no cell is
+    full: the first layer holds the whole film, as a film.)
+
+    Parameters
+    ----------
+    distance : array_like, shape (n,)
+        :math:`d_i`, m, ``>= 0`` (``CementLattice.distance``).
+    cell_width : float
+        :math:`c_w`, m.
+    volume : float
+        Cement to place, in cells (:math:`c_w^3`), ``>= 0``.
+    count : ndarray of bool, shape (n,), optional
+        The cells whose fill counts toward ``volume`` (default all); the others get the same
+        film.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Fills in [0, 1]; all ones where ``volume`` exceeds the counted cells.
+    """
+    d = np.asarray(distance, dtype=float)
+    cw = float(cell_width)
+    if not (np.isfinite(cw) and cw > 0):
+        raise ValueError(f"cell_width must be > 0 m; got {cell_width!r}")
+    if not (np.isfinite(volume) and volume >= 0):
+        raise ValueError(f"volume must be a finite number of cells >= 0; got {volume!r}")
+    if not np.all(np.isfinite(d) & (d >= 0)):
+        raise ValueError("distance must be finite and >= 0 m")
+    start = np.maximum(d - 0.5 * cw, 0.0) / cw                 # in cells
+    width = np.ones(d.size)
+    sel = slice(None) if count is None else np.asarray(count, dtype=bool)
+    counted, counted_width = start[sel], width[sel]
+    if volume <= 0 or counted.size == 0:
+        return np.zeros(d.size)
+    if volume >= counted.size:
+        return np.ones(d.size)
+
+    def held(tau):
+        return float(np.sum(np.clip((tau - counted) / counted_width, 0.0, 1.0)))
+
+    lo, hi = 0.0, float(np.max(counted + counted_width))
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        if held(mid) < volume:
+            lo = mid
+        else:
+            hi = mid
+    # held() is linear between breakpoints: one secant step on the bracket lands on the volume.
+    v_lo, v_hi = held(lo), held(hi)
+    tau = lo if v_hi == v_lo else lo + (volume - v_lo) * (hi - lo) / (v_hi - v_lo)
+    return np.clip((tau - start) / width, 0.0, 1.0)
+
+
+def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0, window=None,
+                film=True):
+    """Fill fractions of the pore cells holding the cement ``fraction`` of the core window.
+
+    The volume rule of :func:`md.along_depth.cement_cells` without its rounding to whole
+    cells: the cells whose centres lie in the window (default :func:`md.observe.core_window`
+    of the pack) hold exactly ``fraction`` of the window's volume,
+    :math:`\\sum_{i \\in W} f_i c_w^3 = S\\,l_x l_y (z_1 - z_0)`.
+
+    * ``"coating"`` (with ``film``, the default): a film of uniform thickness
+      (:func:`film_fill`), every surface cell
+      holding its share, so that a film thinner than a cell is a film (cells partly filled,
+      :func:`md.acoustic_system` scales their mass and springs and bridges the grains the film
+      joins), not spots of whole cells;
+    * the other schemes: the growth order of :func:`md.growth.cement_order` over the whole
+      lattice, whole cells up to the last level it reaches (cells of equal distance, or one
+      cell for ``"contact"`` and ``"pore_body"``), the rest of the volume spread evenly over
+      that level's cells in the window (and the same fill on its cells outside).
+
+    Parameters
+    ----------
+    pack : md.Pack
+    lat : CementLattice
+        The pack's lattice (:func:`md.cement_lattice`).
+    fraction : float
+        Cement volume per bulk volume of the window, in [0, 1].
+    scheme : {"contact", "coating", "pore_body", "pendular"}
+    seed : int
+        Random seed of the pore-body scheme.
+    window : (float, float), optional
+        ``(bottom, top)``, m.
+    film : bool
+        ``False``: the coating too by whole cells in its growth order (the source's coating,
+        the last level partly filled).
+
+    Returns
+    -------
+    fill : ndarray, shape (n,)
+        Per pore cell of ``lat``, in [0, 1].
+    overflow : bool
+        Whether the window's pores were too few (then all of them are full).
+    """
+    from .observe import core_window
+
+    if not (np.isfinite(fraction) and 0.0 <= fraction <= 1.0):
+        raise ValueError(f"fraction must lie in [0, 1]; got {fraction!r}")
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {SCHEMES}; got {scheme!r}")
+    lo, hi = core_window(pack) if window is None else (float(window[0]), float(window[1]))
+    if not hi > lo:
+        raise ValueError(f"window must be (bottom, top) with top > bottom; got {window!r}")
+    z = lat.centres()[:, 2]
+    inside = (z >= lo) & (z < hi)
+    cw = lat.cell_width
+    want = fraction * pack.box.lx * pack.box.ly * (hi - lo) / cw**3     # cells
+    n_in = int(np.count_nonzero(inside))
+    fill = np.zeros(lat.index.size)
+    if want <= 0:
+        return fill, False
+    overflow = want > n_in
+    if scheme == "coating" and film:
+        fill = film_fill(lat.distance, cw, min(want, n_in), count=inside)
+        return fill, bool(overflow)
+    order = cement_order(lat, 1.0, scheme, seed=seed)
+    if overflow:
+        fill[order] = 1.0
+        return fill, True
+    if scheme in ("coating", "pendular"):
+        levels = _distance_levels(lat.distance2 if scheme == "pendular" else lat.distance)[order]
+        new = np.flatnonzero(np.diff(levels) != 0) + 1
+    else:
+        new = np.arange(1, order.size)
+    starts = np.concatenate([[0], new])                 # first position of every level
+    cum = np.concatenate([[0], np.cumsum(inside[order])])
+    before = cum[starts]                                # window cells before each level
+    k = int(np.searchsorted(before, want, side="left")) - 1     # the level the cut falls in
+    begin = starts[k]
+    end = starts[k + 1] if k + 1 < starts.size else order.size
+    fill[order[:begin]] = 1.0
+    level = order[begin:end]
+    n_level = int(np.count_nonzero(inside[level]))
+    fill[level] = (want - before[k]) / n_level
+    return fill, False

@@ -87,7 +87,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["INTERFACES", "interface_area", "patch_radius", "interface_patches",
-           "interface_stiffness", "bond_partners"]
+           "interface_stiffness", "bond_partners", "nearest_grain", "film_thickness",
+           "film_bridges"]
 
 #: Grain–cement interface rules of :func:`md.acoustic_system`, the default first.
 INTERFACES = ("facet", "patch", "paper")
@@ -146,6 +147,166 @@ def bond_partners(bond_grain, cell_centres, positions, radii, box, k=8) -> np.nd
     out[:] = idx[np.arange(m), best]
     out[~np.isfinite(gap[np.arange(m), best])] = -1
     return out
+
+
+def nearest_grain(points, positions, radii, box, k=8) -> np.ndarray:
+    """The grain whose surface is nearest each point (periodic in x and y): the owner of the
+    film a partly filled cement cell holds (:func:`md.acoustic_system`).
+
+    Parameters as :func:`bond_partners`, ``points`` of shape (m, 3), m. Returns the grain
+    index of each point, int64.
+    """
+    m = np.asarray(points).shape[0]
+    return bond_partners(np.full(m, -1), points, positions, radii, box, k)
+
+
+def film_thickness(owner, volume, radii) -> np.ndarray:
+    r"""Mean thickness of the cement film each grain carries: the cement volume of the cells it
+    owns (:func:`nearest_grain`) over its surface, :math:`t_g = V_g / 4\pi R_g^2`, m
+    (thin-film limit of the shell volume :math:`4\pi R^2 t (1 + t/R + t^2/3R^2)`).
+
+    Parameters
+    ----------
+    owner : ndarray of int, shape (m,)
+        Grain of each cement cell.
+    volume : ndarray, shape (m,)
+        Cement volume of each cell (fill times :math:`c_w^3`), m³.
+    radii : ndarray, shape (n,)
+        Grain radii, m.
+    """
+    r = np.asarray(radii, dtype=float)
+    return np.bincount(np.asarray(owner, dtype=np.int64), np.asarray(volume, dtype=float),
+                       r.size) / (4.0 * np.pi * r**2)
+
+
+def film_bridges(positions, radii, box, thickness, material, cement, hertz_pairs=None,
+                 hertz_radius=None, covered_pairs=None, covered_area=None):
+    r"""Bonds of the cement bridges that two grains' films make where they meet.
+
+    Two grains of radii :math:`R_i, R_j` whose surfaces are :math:`h_0` apart on the line of
+    centres (:math:`h_0 < 0` where they overlap), each coated by a film of thickness
+    :math:`t_i, t_j`, are joined by cement wherever the gap between them is under
+    :math:`T = t_i + t_j`. With the sphere profile of :mod:`md.bond_stiffness` (gap
+    :math:`h + 2(\bar R - \sqrt{\bar R^2 - \rho^2})` at distance :math:`\rho` from the axis,
+    :math:`\bar R = 2R_iR_j/(R_i + R_j)`), the bridge is the disc
+
+    .. math:: a_b^2 = \bar R^2 - \left(\bar R - \frac{T - h_0}{2}\right)^2
+              \quad (h_0 \ge 0), \qquad
+              a_b^2 = a_H^2 + \bar R^2 - \left(\bar R - \frac T2\right)^2 \quad (h_0 < 0),
+
+    the second around a Hertzian contact of radius :math:`a_H` (flattened: the film adds the
+    annulus a touching pair would bridge). For equal touching grains coated by a film of
+    thickness :math:`t` (:math:`T = 2t`), :math:`a_b^2/R^2 = 2t/R - t^2/R^2`: to first order
+    the contact-cement radius of the uniform-coating scheme of Dvorkin & Nur (1996, eq. 6,
+    :math:`\alpha = [2S\phi_0/3(1-\phi_0)]^{1/2}` with :math:`t/R = S\phi_0/3(1-\phi_0)`).
+    Its stiffness is the cement bond of
+    :func:`md.bond_stiffness.bond_stiffness` (thin cement layer of that profile in series with
+    both grains as half-spaces; the welded contact of radius :math:`a_b` for rigid cement,
+    Dvorkin et al. 1994's layer for rigid grains) at the disc radius and axial gap
+    :math:`\max(h_0, 0)`; for an overlapping pair the Hertzian bond is already in the system,
+    and the bridge adds ``bond(a_b) - bond(a_H)`` (both at zero gap, never below zero), so the
+    pair's stiffness is continuous as the film vanishes.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (n, 3)
+        Grain centres, m.
+    radii : ndarray, shape (n,)
+        m.
+    box : md.Box
+    thickness : ndarray, shape (n,)
+        Film thickness of each grain (:func:`film_thickness`), m, ``>= 0``.
+    material : md.GrainMaterial
+    cement : md.CementMaterial
+    hertz_pairs : ndarray of int, shape (p, 2), optional
+        Grain pairs with a Hertzian bond, and ``hertz_radius`` their contact radii (m).
+    covered_pairs : ndarray of int, shape (q, 2), optional
+        Pairs whose bridge full cells of the lattice resolve in part, and ``covered_area``
+        (shape (q,), m²; a pair may repeat, its areas add) the area they resolve.
+        The bridge keeps the part of its disc (the annulus outside a Hertzian contact) the
+        cells do not cover: its stiffness is scaled by
+        :math:`\max(0, 1 - A_{cells}/\pi(a_b^2 - a_H^2))`, so that the bridge hands over to
+        the lattice cell by cell as a coating thickens past a cell.
+
+    Returns
+    -------
+    i, j : ndarray of int64
+        Grains of each bridge.
+    normal : ndarray, shape (b, 3)
+        Unit vectors from ``i`` to ``j``.
+    kn, kt : ndarray, shape (b,)
+        N/m.
+    arm_i, arm_j : ndarray, shape (b,)
+        Distances from the centres to the bridge's plane (the radical plane), m.
+    """
+    from .bond_stiffness import bond_stiffness
+    from .neighbors import build_neighbors
+    from .space import minimum_image
+
+    x = np.asarray(positions, dtype=float)
+    r = np.asarray(radii, dtype=float)
+    t = np.asarray(thickness, dtype=float)
+    empty = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0),
+             np.zeros(0), np.zeros(0), np.zeros(0))
+    if t.shape != r.shape or not np.all(np.isfinite(t) & (t >= 0)):
+        raise ValueError("thickness must be finite, >= 0 m, one per grain")
+    if x.shape[0] < 2 or not np.any(t > 0):
+        return empty
+    skin = 2.0 * float(t.max())
+    p = build_neighbors(x, r, box, skin).pairs.astype(np.int64)
+    p = np.sort(p, axis=1)
+    d = minimum_image(x[p[:, 1]] - x[p[:, 0]], box)
+    dist = np.linalg.norm(d, axis=1)
+    ri, rj = r[p[:, 0]], r[p[:, 1]]
+    h0 = dist - ri - rj
+    T = t[p[:, 0]] + t[p[:, 1]]
+    n = x.shape[0]
+    key = p[:, 0] * n + p[:, 1]
+    a_h = np.zeros(p.shape[0])
+    if hertz_pairs is not None and len(hertz_pairs):
+        hp = np.sort(np.asarray(hertz_pairs, dtype=np.int64), axis=1)
+        hk = hp[:, 0] * n + hp[:, 1]
+        pos = np.searchsorted(np.sort(hk), key)
+        srt = np.argsort(hk)
+        found = (pos < hk.size) & (np.sort(hk)[np.minimum(pos, hk.size - 1)] == key)
+        a_h[found] = np.asarray(hertz_radius, dtype=float)[srt][pos[found]]
+    covered = np.zeros(p.shape[0])
+    if covered_pairs is not None and len(covered_pairs):
+        cp = np.sort(np.asarray(covered_pairs, dtype=np.int64), axis=1)
+        ck = cp[:, 0] * n + cp[:, 1]
+        srt = np.argsort(key)
+        pos = np.searchsorted(key[srt], ck)
+        hit = pos < key.size
+        hit[hit] = key[srt][pos[hit]] == ck[hit]
+        np.add.at(covered, srt[pos[hit]], np.asarray(covered_area, dtype=float)[hit])
+    keep = (T > h0) & (T > 0)
+    p, d, dist, h0, T, a_h, ri, rj, covered = (
+        v[keep] for v in (p, d, dist, h0, T, a_h, ri, rj, covered))
+    if p.shape[0] == 0:
+        return empty
+    Rb = 2.0 * ri * rj / (ri + rj)
+    touching = h0 < 0
+    half = np.where(touching, 0.5 * T, 0.5 * (T - h0))
+    half = np.minimum(half, Rb)
+    a_b = np.sqrt(np.where(touching, a_h**2, 0.0) + Rb**2 - (Rb - half) ** 2)
+    a_b = np.minimum(a_b, Rb)
+    gap = np.maximum(h0, 0.0)
+    Kc = cement.p_modulus - 4.0 / 3.0 * cement.shear_modulus
+    moduli = (material.bulk_modulus, material.shear_modulus, Kc, cement.shear_modulus)
+    bond = bond_stiffness(Rb, a_b / Rb, gap / (2.0 * Rb), *moduli)
+    kn, kt = bond.normal, bond.shear
+    h = touching & (a_h > 0)
+    if np.any(h):
+        hertz = bond_stiffness(Rb[h], np.minimum(a_h[h] / Rb[h], 1.0), 0.0, *moduli)
+        kn[h] = np.maximum(kn[h] - hertz.normal, 0.0)
+        kt[h] = np.maximum(kt[h] - hertz.shear, 0.0)
+    share = np.clip(1.0 - covered / (np.pi * (a_b**2 - np.where(touching, a_h**2, 0.0))),
+                    0.0, 1.0)
+    kn, kt = kn * share, kt * share
+    live = share > 0
+    arm_i = (dist**2 + ri**2 - rj**2) / (2.0 * dist)
+    return (p[live, 0], p[live, 1], (d / dist[:, None])[live], kn[live], kt[live], arm_i[live],
+            (dist - arm_i)[live])
 
 
 def interface_area(normals, cell_width) -> np.ndarray:
