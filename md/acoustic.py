@@ -484,8 +484,10 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
         cell's, its bond to that grain alone, :math:`f` times a full cell's; its lattice bonds
         two half-bonds in series, :math:`2f_pf_q/(f_p+f_q)` times eq. 6's, and none to a film
         cell of another grain. Films meet only in *bridges*, grain–grain cement bonds over the
-        disc where the gap between two grains is under the sum of their film thicknesses
-        (:func:`md.interface.film_bridges`), less the part full cells resolve; a film that
+        disc where the gap between two grains is under the sum of their film thicknesses (the
+        volume of a grain's partly filled cells over its surface,
+        :func:`md.interface.film_thickness`; :func:`md.interface.film_bridges`), less the part
+        full cells resolve; a film that
         joins nothing but its grain is folded into it (:func:`_lump_free_film`). So a coating
         thinner than a cell is the bridges it makes, whose size follows the film thickness, not
         spots of cells, and converges with the resolution.
@@ -759,7 +761,7 @@ def _film_bonds(extra, f, owner, film, ci, cj, cnrm, partner, positions_cells, g
     lat = (p, q, _LATTICE_NORMALS[d], lattice_k[0][d] * scale, lattice_k[1][d] * scale,
            np.zeros(p.size), np.zeros(p.size),
            0.5 * cw * np.sqrt(_LATTICE_LENGTH2[d]), 0.5 * cw * np.sqrt(_LATTICE_LENGTH2[d]))
-    thickness = film_thickness(owner, f * cw**3, r)
+    thickness = film_thickness(owner[film], f[film] * cw**3, r)    # the partly filled cells
     # the part of a pair's bridge whole cells already resolve: the full cells bonded to
     # either grain and facing the other, half of their interface area from each side
     full_bond = ~film[cj]
