@@ -15,7 +15,8 @@ compacted sample), this records:
   Vp/Vs.
 
 Output: ``results/md_rotations[_<tag>].csv`` and ``.nc``, the table on stdout. Run:
-``python benchmarks/md_rotations.py [--size 4 4 12 --seeds 0 1 --omega 4]`` (a few minutes).
+``python benchmarks/md_rotations.py [--size 4 4 12 --seeds 0 1 --omega 4]`` (a few minutes);
+``--film`` lays the coating as a film in partly filled cells (``md.growth.film_fill``).
 """
 
 from __future__ import annotations
@@ -61,6 +62,9 @@ def main(argv=None):
     parser.add_argument("--stress", type=float, default=30.0, help="MPa")
     parser.add_argument("--omega", type=float, default=4.0)
     parser.add_argument("--saturations", type=float, nargs="+", default=[0.02, 0.05, 0.1, 0.2])
+    parser.add_argument("--film", action="store_true",
+                        help="coating as a film in partly filled cells (md.growth.film_fill, "
+                             "the same volume as grow_cement's cells)")
     parser.add_argument("--tag", default="")
     args = parser.parse_args(argv)
     src = _common.announce_source()
@@ -101,7 +105,12 @@ def main(argv=None):
         lat = md.cement_lattice(pack, args.omega)
         for scheme in ("contact", "coating"):
             for sat in args.saturations:
-                cells = md.grow_cement(lat, sat, scheme)
+                if args.film and scheme == "coating":
+                    from md.growth import film_fill
+
+                    cells = film_fill(lat.distance, lat.cell_width, sat * lat.index.size)
+                else:
+                    cells = md.grow_cement(lat, sat, scheme)
                 for rot in (False, True):
                     t0 = time.perf_counter()
                     M, G, rho = _moduli(md.acoustic_system(pack, lat, cells, md.HARD_CEMENT,
@@ -116,6 +125,7 @@ def main(argv=None):
     frame = pd.DataFrame(rows)
     attrs = _common.environment_attrs(size=str(args.size), seeds=str(args.seeds),
                                       stress_MPa=args.stress, omega=args.omega,
+                                      coating="film" if args.film else "cells",
                                       md_sources=src.get("md_source_sha256", ""))
     _common.write_csv(frame, _common.result_path(NAME, "csv", args.tag), attrs)
     ds = frame.to_xarray()
