@@ -11,7 +11,8 @@ import numpy as np
 
 from .cement import CONTACT, SCHEMES, SURFACE, CementLattice
 
-__all__ = ["grow_cement", "cement_order", "cement_sweep", "cement_fill", "film_fill"]
+__all__ = ["grow_cement", "cement_order", "cement_sweep", "cement_fill", "film_fill",
+           "FILM_MAX_THICKNESS", "FILM_CAP"]
 
 
 #: Uniforms drawn from the growth stream per call of the pore-body kernel (the result does not
@@ -284,7 +285,16 @@ def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> 
     return cemented
 
 
-def film_fill(distance, cell_width, volume, *, count=None) -> np.ndarray:
+#: Thickest film (in mean grain radii) :func:`cement_fill` lays as a film; a thicker coating is
+#: whole cells. Film and cells agree there once the cells resolve it (3 x 3 x 6 pack at 10 MPa,
+#: S_c 0.5, t = 0.10 R, rotations: static M 20.9 GPa as a film from Omega 8, 20.9 as whole
+#: cells at Omega 12, which give 18.9 at Omega 6).
+FILM_MAX_THICKNESS = 0.1
+#: Largest fill of a film cell (below 1: a full cell is a cell of the lattice, not film).
+FILM_CAP = 1.0 - 2.0**-20
+
+
+def film_fill(distance, cell_width, volume, *, count=None, cap=1.0) -> np.ndarray:
     """Fill fractions of a film of uniform thickness on the grains holding ``volume`` cells.
 
     Each pore cell is a slab of the distance-to-the-grains coordinate, one cell wide, from
@@ -314,11 +324,15 @@ def film_fill(distance, cell_width, volume, *, count=None) -> np.ndarray:
     count : ndarray of bool, shape (n,), optional
         The cells whose fill counts toward ``volume`` (default all); the others get the same
         film.
+    cap : float
+        Largest fill, in (0, 1] (:data:`FILM_CAP` keeps every cell a film cell of
+        :func:`md.acoustic_system`: the film then spreads over further layers).
 
     Returns
     -------
     ndarray, shape (n,)
-        Fills in [0, 1]; all ones where ``volume`` exceeds the counted cells.
+        Fills in [0, ``cap``]; all ``cap`` where ``volume`` exceeds what the counted cells
+        hold.
     """
     d = np.asarray(distance, dtype=float)
     cw = float(cell_width)
@@ -328,17 +342,19 @@ def film_fill(distance, cell_width, volume, *, count=None) -> np.ndarray:
         raise ValueError(f"volume must be a finite number of cells >= 0; got {volume!r}")
     if not np.all(np.isfinite(d) & (d >= 0)):
         raise ValueError("distance must be finite and >= 0 m")
+    if not 0.0 < cap <= 1.0:
+        raise ValueError(f"cap must lie in (0, 1]; got {cap!r}")
     start = np.maximum(d - 0.5 * cw, 0.0) / cw                 # in cells
     width = np.ones(d.size)
     sel = slice(None) if count is None else np.asarray(count, dtype=bool)
     counted, counted_width = start[sel], width[sel]
     if volume <= 0 or counted.size == 0:
         return np.zeros(d.size)
-    if volume >= counted.size:
-        return np.ones(d.size)
+    if volume >= cap * counted.size:
+        return np.full(d.size, float(cap))
 
     def held(tau):
-        return float(np.sum(np.clip((tau - counted) / counted_width, 0.0, 1.0)))
+        return float(np.sum(np.clip((tau - counted) / counted_width, 0.0, cap)))
 
     lo, hi = 0.0, float(np.max(counted + counted_width))
     for _ in range(200):
@@ -352,7 +368,7 @@ def film_fill(distance, cell_width, volume, *, count=None) -> np.ndarray:
     # held() is linear between breakpoints: one secant step on the bracket lands on the volume.
     v_lo, v_hi = held(lo), held(hi)
     tau = lo if v_hi == v_lo else lo + (volume - v_lo) * (hi - lo) / (v_hi - v_lo)
-    return np.clip((tau - start) / width, 0.0, 1.0)
+    return np.clip((tau - start) / width, 0.0, cap)
 
 
 def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0, window=None,
@@ -364,8 +380,10 @@ def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0,
     of the pack) hold exactly ``fraction`` of the window's volume,
     :math:`\\sum_{i \\in W} f_i c_w^3 = S\\,l_x l_y (z_1 - z_0)`.
 
-    * ``"coating"`` (with ``film``, the default): a film of uniform thickness
-      (:func:`film_fill`), every surface cell
+    * ``"coating"`` (with ``film``, the default) while the film is at most
+      :data:`FILM_MAX_THICKNESS` mean radii thick (its volume over the surface of the grains
+      whose centres lie in the window): a film of uniform thickness (:func:`film_fill`, no
+      cell full, :data:`FILM_CAP`), every surface cell
       holding its share, so that a film thinner than a cell is a film (cells partly filled,
       :func:`md.acoustic_system` scales their mass and springs and bridges the grains the film
       joins), not spots of whole cells;
@@ -388,7 +406,9 @@ def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0,
         ``(bottom, top)``, m.
     film : bool
         ``False``: the coating too by whole cells in its growth order (the source's coating,
-        the last level partly filled).
+        the last level partly filled), as is a coating thicker than
+        :data:`FILM_MAX_THICKNESS`. The choice depends on the volume only, never on
+        :math:`\\Omega`, so the members of one resolution sequence share a representation.
 
     Returns
     -------
@@ -415,9 +435,12 @@ def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0,
     if want <= 0:
         return fill, False
     overflow = want > n_in
-    if scheme == "coating" and film:
-        fill = film_fill(lat.distance, cw, min(want, n_in), count=inside)
-        return fill, bool(overflow)
+    grains = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
+    surface = 4.0 * np.pi * float(np.sum(pack.radii[grains] ** 2))
+    thin = surface > 0 and (want * cw**3 / surface
+                            <= FILM_MAX_THICKNESS * float(pack.radii.mean()))
+    if scheme == "coating" and film and thin and not overflow:
+        return film_fill(lat.distance, cw, want, count=inside, cap=FILM_CAP), False
     order = cement_order(lat, 1.0, scheme, seed=seed)
     if overflow:
         fill[order] = 1.0

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 import md
-from md.growth import cement_fill, film_fill
+from md.growth import FILM_MAX_THICKNESS, cement_fill, film_fill
 from md.interface import film_bridges, film_thickness, nearest_grain
 from md.observe import core_window, porosity
 from md.static import static_moduli
@@ -160,3 +160,20 @@ def test_thin_coating_converges_in_omega(compacted_pack):
         values.append([r["p"].modulus, r["s"].modulus])
     change = np.abs(np.diff(values, axis=0) / np.array(values[:-1]))
     assert np.all(change < 0.02), change
+
+
+def test_coating_is_a_film_up_to_its_thickness_limit(compacted_pack):
+    # the representation follows the film thickness (volume over the grains' surface in the
+    # window), not the resolution: a film (no full cell) up to FILM_MAX_THICKNESS, else cells
+    pack = compacted_pack
+    lo, hi = core_window(pack)
+    inside = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
+    surface = 4 * np.pi * np.sum(pack.radii[inside] ** 2)
+    volume_per_radius = surface * pack.radii.mean() / (pack.box.lx * pack.box.ly * (hi - lo))
+    for omega in (3.0, 5.0):
+        lat = md.cement_lattice(pack, omega)
+        thin, _ = cement_fill(pack, lat, 0.9 * FILM_MAX_THICKNESS * volume_per_radius, "coating")
+        thick, _ = cement_fill(pack, lat, 1.1 * FILM_MAX_THICKNESS * volume_per_radius,
+                               "coating")
+        assert thin.max() < 1.0 and np.count_nonzero(thin) > 0
+        assert np.count_nonzero(thick == 1.0) > 0.9 * np.count_nonzero(thick)
