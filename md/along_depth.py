@@ -226,6 +226,22 @@ def cement_cells(pack, lat, fraction, scheme, *, seed=0, carried=None, fill=Fals
     return cells, bool(overflow)
 
 
+def coating_is_film(pack, fraction) -> bool:
+    """Whether a coating of cement ``fraction`` (volume per bulk volume of the pack's core
+    window) is a film: at most :data:`md.growth.FILM_MAX_THICKNESS` mean radii thick (its volume
+    over the surface of the grains whose centres lie in the window), the rule of
+    :func:`md.growth.cement_fill`. A film is laid down afresh at every depth (a uniform film
+    grown in increments is the film of their sum; its fills are not whole cells to carry)."""
+    from .growth import FILM_MAX_THICKNESS
+    from .observe import core_window
+
+    lo, hi = core_window(pack)
+    grains = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
+    surface = 4.0 * np.pi * float(np.sum(pack.radii[grains] ** 2))
+    volume = fraction * pack.box.lx * pack.box.ly * (hi - lo)
+    return surface > 0 and volume / surface <= FILM_MAX_THICKNESS * float(pack.radii.mean())
+
+
 def _load_cells(path):
     import xarray as xr
 
@@ -274,15 +290,17 @@ def _grown_cement(pack, pack_key, fraction, scheme, omega, seed, previous, folde
 
 def _member(pack, fraction, scheme, omega, cement, options, cells=None):
     """Moduli of the pack cemented to the cement ``fraction`` (volume per bulk volume of its
-    core window) by ``scheme`` at resolution ``omega``, or with the given ``cells`` (cement
-    grown during burial)."""
+    core window) by ``scheme`` at resolution ``omega`` (fill fractions of
+    :func:`md.growth.cement_fill`: the volume exactly, a thin coating as a film), or with the
+    given ``cells`` (whole cells grown during burial)."""
     from .acoustic import acoustic_system
     from .cement import cement_lattice
+    from .growth import cement_fill
 
     if cells is not None and cells.any() or cells is None and fraction > 0:
         lat = cement_lattice(pack, omega)
         if cells is None:
-            cells, _ = cement_cells(pack, lat, fraction, scheme, seed=options["seed"])
+            cells, _ = cement_fill(pack, lat, fraction, scheme, seed=options["seed"])
         system = acoustic_system(pack, lat, cells, cement, interface=options["interface"],
                                  slab_thickness=options["slab"] * 2 * pack.radii.max())
     else:
@@ -535,7 +553,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
             out["saturation"][i, k] = 1.0 if fill else min(frac[i] / phi, 1.0)
             out["porosity"][i, k] = 0.0 if fill else max(phi - frac[i], 0.0)
             cement_keys, cells_files = None, None
-            if cement_history == "grown":
+            if cement_history == "grown" and not (scheme == "coating"
+                                                  and coating_is_film(here, frac[i])):
                 cement_keys, cells_files = [], []
                 for w in omegas:
                     state, cfile, window, over = _grown_cement(
@@ -546,6 +565,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
                     cells_files.append(str(cfile))
                     if w == omegas[0]:          # the cells' own (porosity: burial's cement)
                         out["cement_window"][i, k] = window
+            else:                   # cement_fill holds the fraction exactly (or fills the pores)
+                out["cement_window"][i, k] = phi if fill else min(frac[i], phi)
             key = _key({"pack": here_key, "fraction": float(frac[i]), "scheme": scheme,
                         "omegas": omegas, "cement_keys": cement_keys, **options})
             path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_c{frac[i]:.6g}_{key[:6]}.nc"

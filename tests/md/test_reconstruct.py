@@ -246,3 +246,30 @@ def test_uplift_keeps_the_largest_stress_porosity(tmp_path):
         carry_down([20.0], [0.0], compaction="squash", workdir=tmp_path)
     with pytest.raises(ValueError, match="cement_history must be one of"):
         carry_down([20.0], [0.0], cement_history="old", workdir=tmp_path)
+
+
+def test_thin_coating_is_a_film_and_thick_cement_is_carried(tmp_path):
+    """carry_down with grown cement: a coating that is a film (at most
+    md.growth.FILM_MAX_THICKNESS mean radii thick) is laid as fill fractions holding the
+    depth's cement exactly (cement_window = the fraction, to rounding); thicker cement is
+    whole cells carried down (its window's cement within a cell of the fraction); the same
+    moduli as a film laid afresh (cement_history='fresh') where the coating is a film."""
+    from md.along_depth import carry_down, coating_is_film
+
+    kw = dict(size=(3.0, 3.0, 6.0), resolution=3.0, workdir=tmp_path, schemes=("coating",),
+              intergranular_volume=[0.33, 0.30])
+    grown = carry_down([15.0, 40.0], [0.004, 0.25], **kw)
+    fresh = carry_down([15.0, 40.0], [0.004, 0.25], cement_history="fresh", **kw)
+    assert grown.cement_window.values[0, 0] == pytest.approx(0.004, rel=1e-12)
+    cell = grown.cement_window.values[1, 0] - 0.25
+    assert abs(cell) < 0.01 and cell != 0.0              # whole cells, to one cell
+    assert grown.p_modulus.values[0, 0] == fresh.p_modulus.values[0, 0]
+    import glob
+
+    from md.state import load_pack
+
+    packs = [load_pack(f) for f in sorted(glob.glob(str(tmp_path / "*" / "pack" /
+                                                          "reconstruct_*.nc")))]
+    films = [coating_is_film(p, 0.004) for p in packs] + [coating_is_film(p, 0.25)
+                                                           for p in packs]
+    assert films[:len(packs)] == [True] * len(packs) and not any(films[len(packs):])
