@@ -79,8 +79,11 @@ def _scene(name, depths, schemes, size, seed, resolution, check, check2, workdir
     table = data["models"]["md"]
     table.update({"depths": list(depths), "schemes": list(schemes), "size": list(size),
                   "seed": int(seed), "samples": 1, "resolution": float(resolution),
-                  "resolution_check": check, "resolution_check2": check2,
                   "workdir": str(workdir)})
+    for key, value in (("resolution_check", check), ("resolution_check2", check2)):
+        table.pop(key, None)                # None: the scene's defaults
+        if value is not None:
+            table[key] = float(value)
     data["models"] = {"md": table}
     data["name"] = f"{name}_coverage"
     return scene_from_dict(data)
