@@ -226,22 +226,6 @@ def cement_cells(pack, lat, fraction, scheme, *, seed=0, carried=None, fill=Fals
     return cells, bool(overflow)
 
 
-def coating_is_film(pack, fraction) -> bool:
-    """Whether a coating of cement ``fraction`` (volume per bulk volume of the pack's core
-    window) is a film: at most :data:`md.growth.FILM_MAX_THICKNESS` mean radii thick (its volume
-    over the surface of the grains whose centres lie in the window), the rule of
-    :func:`md.growth.cement_fill`. A film is laid down afresh at every depth (a uniform film
-    grown in increments is the film of their sum; its fills are not whole cells to carry)."""
-    from .growth import FILM_MAX_THICKNESS
-    from .observe import core_window
-
-    lo, hi = core_window(pack)
-    grains = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
-    surface = 4.0 * np.pi * float(np.sum(pack.radii[grains] ** 2))
-    volume = fraction * pack.box.lx * pack.box.ly * (hi - lo)
-    return surface > 0 and volume / surface <= FILM_MAX_THICKNESS * float(pack.radii.mean())
-
-
 def _load_cells(path):
     import xarray as xr
 
@@ -439,6 +423,7 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     from .protocols import prepare_pack
     from ._tasks import run_tasks
     from .cement import lattice_constants
+    from .growth import coating_is_film
 
     stress = np.atleast_1d(np.asarray(max_stress, dtype=float))
     frac = np.atleast_1d(np.asarray(cement_fraction, dtype=float))

@@ -12,7 +12,7 @@ import numpy as np
 from .cement import CONTACT, SCHEMES, SURFACE, CementLattice
 
 __all__ = ["grow_cement", "cement_order", "cement_sweep", "cement_fill", "film_fill",
-           "FILM_MAX_THICKNESS", "FILM_CAP"]
+           "FILM_MAX_THICKNESS", "FILM_MAX_SATURATION", "FILM_CAP", "coating_is_film"]
 
 
 #: Uniforms drawn from the growth stream per call of the pore-body kernel (the result does not
@@ -290,6 +290,14 @@ def grow_cement(lat: CementLattice, saturation, scheme="contact", *, seed=0) -> 
 #: S_c 0.5, t = 0.10 R, rotations: static M 20.9 GPa as a film from Omega 8, 20.9 as whole
 #: cells at Omega 12, which give 18.9 at Omega 6).
 FILM_MAX_THICKNESS = 0.1
+#: Largest cement saturation (cement over the window's porosity) :func:`cement_fill` lays as a
+#: film. Past it the cement fills the pore throats between neighbours, which a film (bridges
+#: where two grains' films meet, the rest riding on its grain) does not represent: on a pack
+#: reconstructed to burial's intergranular volume (3 x 3 x 8, IGV 0.30, rotations, static M)
+#: the film gives 25.2 GPa at S_c 0.37 where whole cells converge to 31.3-32.0 (Omega 6-9), and
+#: 30.1 against 43.0-44.6 at S_c 0.67; at S_c 0.185 the film's 21.1 lies below whole cells'
+#: 22.5 (Omega 6) and 25.2 (Omega 9), which have not converged.
+FILM_MAX_SATURATION = 0.25
 #: Largest fill of a film cell (below 1: a full cell is a cell of the lattice, not film).
 FILM_CAP = 1.0 - 2.0**-20
 
@@ -371,6 +379,25 @@ def film_fill(distance, cell_width, volume, *, count=None, cap=1.0) -> np.ndarra
     return np.clip((tau - start) / width, 0.0, cap)
 
 
+def coating_is_film(pack, fraction, *, window=None) -> bool:
+    """Whether :func:`cement_fill` lays a coating of cement ``fraction`` (volume per bulk volume
+    of the ``window``, default the pack's core window) as a film: at most
+    :data:`FILM_MAX_THICKNESS` mean radii thick (its volume over the surface of the grains
+    whose centres lie in the window) and at most :data:`FILM_MAX_SATURATION` of the window's
+    porosity (:func:`md.observe.porosity`). Both depend on the volume only, never on the
+    lattice, so every resolution of one member shares the representation."""
+    from .observe import core_window, porosity
+
+    lo, hi = core_window(pack) if window is None else (float(window[0]), float(window[1]))
+    grains = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
+    surface = 4.0 * np.pi * float(np.sum(pack.radii[grains] ** 2))
+    volume = fraction * pack.box.lx * pack.box.ly * (hi - lo)
+    if not surface > 0 or volume / surface > FILM_MAX_THICKNESS * float(pack.radii.mean()):
+        return False
+    phi = porosity(pack, bottom=lo, top=hi)
+    return phi > 0 and fraction <= FILM_MAX_SATURATION * phi
+
+
 def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0, window=None,
                 film=True):
     """Fill fractions of the pore cells holding the cement ``fraction`` of the core window.
@@ -382,7 +409,8 @@ def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0,
 
     * ``"coating"`` (with ``film``, the default) while the film is at most
       :data:`FILM_MAX_THICKNESS` mean radii thick (its volume over the surface of the grains
-      whose centres lie in the window): a film of uniform thickness (:func:`film_fill`, no
+      whose centres lie in the window) and at most :data:`FILM_MAX_SATURATION` of the window's
+      porosity (:func:`coating_is_film`): a film of uniform thickness (:func:`film_fill`, no
       cell full, :data:`FILM_CAP`), every surface cell
       holding its share, so that a film thinner than a cell is a film (cells partly filled,
       :func:`md.acoustic_system` scales their mass and springs and bridges the grains the film
@@ -435,11 +463,8 @@ def cement_fill(pack, lat: CementLattice, fraction, scheme="coating", *, seed=0,
     if want <= 0:
         return fill, False
     overflow = want > n_in
-    grains = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
-    surface = 4.0 * np.pi * float(np.sum(pack.radii[grains] ** 2))
-    thin = surface > 0 and (want * cw**3 / surface
-                            <= FILM_MAX_THICKNESS * float(pack.radii.mean()))
-    if scheme == "coating" and film and thin and not overflow:
+    if scheme == "coating" and film and not overflow and coating_is_film(pack, fraction,
+                                                                        window=(lo, hi)):
         return film_fill(lat.distance, cw, want, count=inside, cap=FILM_CAP), False
     order = cement_order(lat, 1.0, scheme, seed=seed)
     if overflow:

@@ -7,7 +7,8 @@ import pytest
 from scipy.integrate import quad
 
 import md
-from md.growth import FILM_MAX_THICKNESS, cement_fill, film_fill
+from md.growth import (FILM_MAX_SATURATION, FILM_MAX_THICKNESS, cement_fill, coating_is_film,
+                       film_fill)
 from md.interface import film_bridges, film_thickness, nearest_grain
 from md.observe import core_window, porosity
 from md.static import static_moduli
@@ -52,7 +53,8 @@ def test_cement_fill_holds_the_requested_volume(compacted_pack, lattice6, scheme
         full = fill == 1.0
         if full.any():
             assert start[full].max() <= start[fill < 1.0].min()
-        assert np.all(fill[start == 0] > 0)
+        if coating_is_film(compacted_pack, fraction):      # a film covers every grain
+            assert np.all(fill[start == 0] > 0)
 
 
 def test_cement_fill_bad_input(compacted_pack, lattice6):
@@ -162,18 +164,22 @@ def test_thin_coating_converges_in_omega(compacted_pack):
     assert np.all(change < 0.02), change
 
 
-def test_coating_is_a_film_up_to_its_thickness_limit(compacted_pack):
-    # the representation follows the film thickness (volume over the grains' surface in the
-    # window), not the resolution: a film (no full cell) up to FILM_MAX_THICKNESS, else cells
+def test_coating_is_a_film_up_to_its_thickness_and_saturation_limits(compacted_pack):
+    # the representation follows the film's thickness (volume over the grains' surface in the
+    # window) and its saturation (over the window's porosity), never the resolution: a film (no
+    # full cell) below both FILM_MAX_THICKNESS and FILM_MAX_SATURATION, else cells
     pack = compacted_pack
     lo, hi = core_window(pack)
     inside = (pack.positions[:, 2] >= lo) & (pack.positions[:, 2] < hi)
     surface = 4 * np.pi * np.sum(pack.radii[inside] ** 2)
-    volume_per_radius = surface * pack.radii.mean() / (pack.box.lx * pack.box.ly * (hi - lo))
+    by_thickness = FILM_MAX_THICKNESS * surface * pack.radii.mean() / (
+        pack.box.lx * pack.box.ly * (hi - lo))
+    by_saturation = FILM_MAX_SATURATION * porosity(pack)
+    limit = min(by_thickness, by_saturation)
     for omega in (3.0, 5.0):
         lat = md.cement_lattice(pack, omega)
-        thin, _ = cement_fill(pack, lat, 0.9 * FILM_MAX_THICKNESS * volume_per_radius, "coating")
-        thick, _ = cement_fill(pack, lat, 1.1 * FILM_MAX_THICKNESS * volume_per_radius,
-                               "coating")
+        thin, _ = cement_fill(pack, lat, 0.9 * limit, "coating")
+        thick, _ = cement_fill(pack, lat, 1.1 * limit, "coating")
         assert thin.max() < 1.0 and np.count_nonzero(thin) > 0
         assert np.count_nonzero(thick == 1.0) > 0.9 * np.count_nonzero(thick)
+    assert coating_is_film(pack, 0.99 * limit) and not coating_is_film(pack, 1.01 * limit)

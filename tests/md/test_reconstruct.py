@@ -249,12 +249,13 @@ def test_uplift_keeps_the_largest_stress_porosity(tmp_path):
 
 
 def test_thin_coating_is_a_film_and_thick_cement_is_carried(tmp_path):
-    """carry_down with grown cement: a coating that is a film (at most
-    md.growth.FILM_MAX_THICKNESS mean radii thick) is laid as fill fractions holding the
+    """carry_down with grown cement: a coating that is a film (md.growth.coating_is_film) is
+    laid as fill fractions holding the
     depth's cement exactly (cement_window = the fraction, to rounding); thicker cement is
     whole cells carried down (its window's cement within a cell of the fraction); the same
     moduli as a film laid afresh (cement_history='fresh') where the coating is a film."""
-    from md.along_depth import carry_down, coating_is_film
+    from md.along_depth import carry_down
+    from md.growth import coating_is_film
 
     kw = dict(size=(3.0, 3.0, 6.0), resolution=3.0, workdir=tmp_path, schemes=("coating",),
               intergranular_volume=[0.33, 0.30])
