@@ -141,6 +141,9 @@ def per_depth_table(ds):
             table[f"{v}_error_resolution_{m}"] = sub[f"{v}_error_resolution"].sel(model=m).values
             table[f"{v}_error_{m}"] = error.values
         table[f"trusted_{m}"] = trusted.values
+        for name in ("thomsen_epsilon", "thomsen_gamma", "thomsen_delta"):
+            if name in sub:
+                table[f"{name.split('_')[1]}_{m}"] = sub[name].sel(model=m).values
         table[f"wall_time_s_{m}"] = sub.md_wall_time.sel(model=m).values
     for v in ("vp", "vs"):
         table[f"{v}_patchy_cement"] = sub[v].sel(model="patchy_cement").values
