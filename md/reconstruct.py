@@ -155,7 +155,7 @@ def union_solid_volume(x, r, box, bottom, top, *, samples=12):
     that lies inside the slab and meets no third sphere contributes its closed-form volume
     (:func:`lens_volume`); the others (cut by a slab plane, or with a third sphere in them) its
     volume times the mean of :math:`2/k` (times the slab indicator) over a regular grid of
-    ``samples``³ points in the lens's bounding cylinder.
+    ``samples`` points a side (``samples**3`` in all) in the lens's bounding cylinder.
 
     Parameters
     ----------
