@@ -120,7 +120,6 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         fluid, per label the per-model diagnostics (:data:`MD_DEPTH_VARIABLES`,
         :data:`MD_MODEL_VARIABLES`).
     """
-    from md.along_depth import carry_down
     from md.convergence import resolution_error
 
     from .bounds import hashin_shtrikman_average, hashin_shtrikman_upper
@@ -152,22 +151,36 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             raise ValueError('compaction = "reconstruct" needs burial\'s intergranular volume')
         # Never below the cement (burial's IGV holds its cement).
         igv = np.maximum(np.asarray(intergranular_volume, dtype=float)[idx], cement_fraction[idx])
-    runs = [carry_down(max_stress[idx], cement_fraction[idx],
-                       present_stress=np.minimum(present_stress[idx], max_stress[idx]),
-                       intergranular_volume=igv, compaction=compaction,
-                       cement_history=params.get("cement_history", "grown"),
-                       schemes=params["schemes"], size=params["size"],
-                       radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
-                       material=g_mat, cement=c_mat, seed=params["seed"] + k,
-                       fall_stiffness_factor=params["fall_stiffness_factor"],
-                       resolution=params["resolution"],
-                       resolution_check=params["resolution_check"],
-                       resolution_check2=params["resolution_check2"],
-                       interface=params["interface"], measure=params["measure"],
-                       anisotropy=params.get("anisotropy", "ti"),
-                       slab=params["slab"], workdir=work, scheduler=scheduler, jobs=jobs,
-                       progress=progress)
-            for k in range(params["samples"])]
+    samples = params["samples"]
+    parallel = scheduler is None and jobs > 1 and samples > 1
+    width = min(jobs, samples) if parallel else 1
+    common = dict(present_stress=np.minimum(present_stress[idx], max_stress[idx]),
+                  intergranular_volume=igv, compaction=compaction,
+                  cement_history=params.get("cement_history", "grown"),
+                  schemes=params["schemes"], size=params["size"],
+                  radius_range=((1.0 - params["radius_spread"]) * r_max, r_max),
+                  material=g_mat, cement=c_mat,
+                  fall_stiffness_factor=params["fall_stiffness_factor"],
+                  resolution=params["resolution"],
+                  resolution_check=params["resolution_check"],
+                  resolution_check2=params["resolution_check2"],
+                  interface=params["interface"], measure=params["measure"],
+                  anisotropy=params.get("anisotropy", "ti"),
+                  slab=params["slab"], workdir=work, scheduler=scheduler,
+                  jobs=max(1, jobs // width), progress=progress and not parallel)
+    tasks = [(max_stress[idx], cement_fraction[idx], {**common, "seed": params["seed"] + k})
+             for k in range(samples)]
+    if parallel:
+        # Local processes and several packs: the packs are carried down side by side (each
+        # pack's compaction stages are sequential; the members of one pack are few), the
+        # processes shared among them.
+        from md._tasks import run_tasks
+
+        done = {task[2]["seed"]: ds for task, ds in run_tasks(
+            _carry_down_task, tasks, jobs=width, progress=progress, desc="MD packs")}
+        runs = [done[task[2]["seed"]] for task in tasks]
+    else:
+        runs = [_carry_down_task(*task) for task in tasks]
 
     def full(values):
         out = np.full(n, np.nan)
@@ -327,6 +340,14 @@ def saturated_moduli(c, K_min, K_fluid, phi, rho, *, ti=True):
         t = thomsen(sat.c11, sat.c13, sat.c33, sat.c44, sat.c66)
         eps[k], gam[k], dlt[k] = t.epsilon, t.gamma, t.delta
     return K_dry, c44, K_sat, vp, vs, eps, gam, dlt, sound
+
+
+def _carry_down_task(max_stress, cement_fraction, options):
+    """One pack carried down (:func:`md.along_depth.carry_down`; a task of
+    :func:`md._tasks.run_tasks`, so module level)."""
+    from md.along_depth import carry_down
+
+    return carry_down(max_stress, cement_fraction, **options)
 
 
 def total_error(resolution, sample) -> np.ndarray:

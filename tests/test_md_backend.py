@@ -518,3 +518,13 @@ def test_md_member_reports_thomsen_and_keeps_the_isotropic_option(result):
     assert np.all(md.K_dry.values[ran][sound] < iso.K_dry.values[sound])
     np.testing.assert_allclose(iso.vp, np.sqrt((iso.K_sat + 4 / 3 * iso.G_sat) / iso.md_density),
                                rtol=1e-12)
+
+
+def test_samples_on_local_processes_equal_the_serial_run(result):
+    """With jobs > 1 the packs of samples >= 2 are carried down side by side on local
+    processes; the Dataset equals the serial run's."""
+    _, path = result
+    serial = run_scene(tiny(path, samples=2))
+    parallel = run_scene(tiny(path, samples=2), jobs=2)
+    for name in ("vp", "vs", "vp_error", "vs_error_sample", "md_porosity", "md_trusted"):
+        np.testing.assert_array_equal(parallel[name].values, serial[name].values)
