@@ -426,7 +426,7 @@ def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
         off = np.isfinite(asym) & (asym == 0)
         if np.any(off):
             lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[off])} m: "
-                         "the three lattice resolutions are neither in the asymptotic range "
-                         "nor settled within 1 %; vp_error_resolution and vs_error_resolution "
-                         "there are first-order indications, not bounds")
+                         "the three lattice resolutions are not in the asymptotic range (no "
+                         "credible order); vp_error_resolution and vs_error_resolution there "
+                         "are three times the larger first-order step (md.convergence)")
     return lines
