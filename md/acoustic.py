@@ -606,7 +606,9 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
                else None)
     kn_gc, kt_gc = interface_stiffness(ci, cj, cnrm, r, table if extra is None else extra[0],
                                        n_g, cw, mat, cement, interface, partner,
-                                       paper_normal_factor=normal_factor)
+                                       paper_normal_factor=normal_factor,
+                                       contact_pairs=np.stack([gi, gj], axis=1),
+                                       contact_radius=gkn / (normal_factor * mat.E_f))
     if fill is not None:        # a cell holding f of its cement: f of its bond to the grain
         kn_gc, kt_gc = kn_gc * f[cj], kt_gc * f[cj]
     gn_gc, gt_gc = dashpots(kn_gc, kt_gc, m_grain[ci], m_cell[cj], zeta)

@@ -41,6 +41,11 @@ Three rules, chosen by ``interface`` in :func:`md.acoustic_system`:
     sample, Ω 7: hard contact cement Vp 3.13 km/s at S_c 0.1, 2.52 km/s at 0.2). Each neck is
     loaded by its own contact force, in its own direction, so it is its own punch; the facet
     rule keeps it so. For a single contact (two grains) the two rules are the same.
+    A facet toward a grain it touches encloses their contact disc, whose punch the
+    grain–grain bond carries already: its punch is the annulus outside the contact
+    (``contact_radius`` of :func:`interface_stiffness`), so the disc and the cement around it
+    load the grain as one punch of the facet's radius. (Counted twice, a fully cemented
+    sample came out stiffer than the Voigt bound of its grains and cement.)
 
 Which cells touch a grain, and the area each stands for. The paper joins a grain to the cells
 whose cube meets its sphere; the patch rule also joins the pore cells one of whose 6 face
@@ -399,9 +404,29 @@ def interface_patches(bond_grain, bond_cell, table, first, bond_partner=None) ->
     return label
 
 
+#: Smallest facet punch around a contact, as a fraction of the facet's outer radius (keeps the
+#: cells of a facet no wider than its contact, an artefact of a coarse lattice, joined).
+MIN_ANNULUS = 0.05
+
+
+def _facet_contact_radius(label, n_patches, patch_grain, bond_partner, pairs, radius, n_grains):
+    """Radius of the contact between each facet's grain and the grain it faces (0 if none)."""
+    partner = np.full(n_patches, -1, np.int64)
+    partner[label] = np.asarray(bond_partner, dtype=np.int64)
+    pairs = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
+    keys = pairs[:, 0] * n_grains + pairs[:, 1]
+    order = np.argsort(keys)
+    keys, radius = keys[order], np.asarray(radius, dtype=float)[order]
+    lo, hi = np.minimum(patch_grain, partner), np.maximum(patch_grain, partner)
+    want = lo * n_grains + hi
+    pos = np.minimum(np.searchsorted(keys, want), keys.size - 1)
+    hit = (partner >= 0) & (keys[pos] == want)
+    return np.where(hit, radius[pos], 0.0)
+
+
 def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first, cell_width,
                         material, cement, interface="patch", bond_partner=None,
-                        paper_normal_factor=2.0):
+                        paper_normal_factor=2.0, contact_pairs=None, contact_radius=None):
     """Normal and tangential stiffness of the grain–cement bonds.
 
     Parameters
@@ -427,6 +452,18 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
         ``"paper"`` only: :math:`k_n = f E^* (c_w/2)` with this :math:`f`, 2 for the tangent of
         the Hertz force (default), 4/3 for the secant of the source's eq. 1
         (``normal_stiffness`` of :func:`md.acoustic_system`).
+    contact_pairs : ndarray of int, shape (p, 2), optional
+        ``"facet"`` only: grain pairs in contact (the grain–grain bonds of the system), and
+        ``contact_radius`` (shape (p,), m) the radius of each contact. A facet of grain
+        :math:`i` facing a grain :math:`j` it touches encloses their contact disc, whose punch
+        on :math:`i`'s half-space the contact bond already carries: the facet's punch is then
+        the annulus outside it, :math:`2E_g^*(a_p - a_c)` and :math:`8G_g(a_p - a_c)/(2-\nu_g)`
+        (the stiffness of a rigid flat punch is linear in its radius, so the disc and the
+        annulus moving together are the punch of radius :math:`a_p`; Johnson 1985, Sect. 3.8;
+        the rule :func:`film_bridges` applies to a bridge around a Hertzian contact), at least
+        :data:`MIN_ANNULUS` :math:`a_p`. Without it the two punches are counted in parallel on
+        the same surface, and a fully cemented sample is stiffer than the Hashin–Shtrikman
+        upper bound of its grains and cement.
 
     Returns
     -------
@@ -455,6 +492,10 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
     patch_grain[label] = bond_grain
     a_p = patch_radius(np.asarray(bond_normal, dtype=float), area, label,
                        np.asarray(radii, dtype=float)[patch_grain])
+    if interface == "facet" and contact_pairs is not None and len(contact_pairs):
+        a_c = _facet_contact_radius(label, n_patches, patch_grain, bond_partner,
+                                    contact_pairs, contact_radius, len(radii))
+        a_p = np.maximum(a_p - a_c, MIN_ANNULUS * a_p)
     share = area / patch_area[label]
     k_grain_n = 2.0 * a_p[label] * material.young_modulus / (1.0 - nu_g**2) * share
     k_grain_t = 8.0 * material.shear_modulus * a_p[label] / (2.0 - nu_g) * share

@@ -255,3 +255,42 @@ def test_docstrings_hold_no_escaped_control_characters():
         for obj in (module, *(getattr(module, n) for n in module.__all__)):
             doc = inspect.getdoc(obj) or ""
             assert not any(c in doc for c in "\a\b\f\v"), obj
+
+
+def test_facet_punch_around_a_contact_is_the_annulus():
+    """interface_stiffness, rule "facet": the cells of a grain's facet toward a grain it touches
+    share the punch of the annulus outside the contact, 2 E* (a_p - a_c) (a rigid flat punch's
+    stiffness is linear in its radius, Johnson 1985 Sect. 3.8), where the facet alone has
+    2 E* a_p. With a rigid cement the bonds are the grain's punch alone, so the facet's sum
+    drops by exactly 2 E* a_c (normal) and 8 G a_c/(2 - nu) (tangential); facets toward grains
+    it does not touch are unchanged, and a contact wider than the facet leaves MIN_ANNULUS of
+    it."""
+    from md.interface import MIN_ANNULUS, interface_stiffness
+
+    R, cw = 1e-4, 1e-5
+    # Grain 0 with two facets of three cells each: toward grain 1 (touching) and grain 2.
+    normals = np.array([[0, 0, 1.0], [0.1, 0, 0.995], [-0.1, 0, 0.995],
+                        [1.0, 0, 0], [0.995, 0.1, 0], [0.995, -0.1, 0]])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    grain = np.zeros(6, np.int64)
+    cell = np.arange(6, dtype=np.int64)
+    partner = np.array([1, 1, 1, 2, 2, 2])
+    table = np.full((6, 9), -1, np.int32)          # each facet's cells joined in a chain
+    for a, b in ((0, 1), (1, 2), (3, 4), (4, 5)):
+        table[a, 0], table[b, 1] = 3 + b, 3 + a
+    rigid = CementMaterial(6.0e5, 3.5e5, 2650.0)  # ~10^4 times quartz's moduli
+    args = (grain, cell, normals, np.full(3, R), table, 3, cw, QUARTZ, rigid, "facet",
+            partner)
+    kn0, kt0 = interface_stiffness(*args)
+    a_c = 2e-6
+    kn1, kt1 = interface_stiffness(*args, contact_pairs=np.array([[1, 0]]),
+                                   contact_radius=np.array([a_c]))
+    nu, E, G = QUARTZ.poisson_ratio, QUARTZ.young_modulus, QUARTZ.shear_modulus
+    np.testing.assert_allclose(kn0[:3].sum() - kn1[:3].sum(), 2 * E / (1 - nu**2) * a_c,
+                               rtol=2e-3)
+    np.testing.assert_allclose(kt0[:3].sum() - kt1[:3].sum(), 8 * G / (2 - nu) * a_c,
+                               rtol=2e-3)
+    np.testing.assert_array_equal(kn0[3:], kn1[3:])
+    kn2, _ = interface_stiffness(*args, contact_pairs=np.array([[0, 1]]),
+                                 contact_radius=np.array([R]))
+    np.testing.assert_allclose(kn2[:3].sum(), MIN_ANNULUS * kn0[:3].sum(), rtol=2e-3)

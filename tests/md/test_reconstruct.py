@@ -274,3 +274,28 @@ def test_thin_coating_is_a_film_and_thick_cement_is_carried(tmp_path):
     films = [coating_is_film(p, 0.004) for p in packs] + [coating_is_film(p, 0.25)
                                                            for p in packs]
     assert films[:len(packs)] == [True] * len(packs) and not any(films[len(packs):])
+
+
+def test_fully_cemented_sample_below_the_voigt_bound(tmp_path):
+    """A sample whose pores burial fills (porosity 0, grains and cement of the same quartz
+    family) is a solid of grain and cement: for any microstructure its strain energy under a
+    uniform strain is at most the Voigt average of its phases', so C33 <= sum f_i M_i and
+    C44 <= sum f_i G_i (Hill 1963). The facet punch around a flattened contact is the annulus
+    outside the contact (md.interface.interface_stiffness, contact_radius); counting the
+    contact's punch and the facet's both (the former rule) gave C33 above the bound."""
+    from md.along_depth import carry_down
+    from rockcem._md_backend import _materials
+    from rockcem.materials import mineral
+
+    g, c = mineral("quartz"), mineral("quartz_cement")
+    grain, cement = _materials(g, c)
+    ds = carry_down([60.0], [0.28], intergranular_volume=[0.28], size=(3.0, 3.0, 8.0),
+                    resolution=3.0, material=grain, cement=cement, workdir=tmp_path,
+                    schemes=("coating",)).isel(point=0, scheme=0)
+    assert float(ds.porosity) < 0.005
+    phi_pack, phi = float(ds.porosity_pack), float(ds.porosity)
+    beta = (phi_pack - phi) / (1.0 - phi)           # cement per solid
+    M_voigt = ((1 - beta) * (g.K + 4 / 3 * g.G) + beta * (c.K + 4 / 3 * c.G)) * 1e9
+    G_voigt = ((1 - beta) * g.G + beta * c.G) * 1e9
+    assert float(ds.p_modulus) < M_voigt and float(ds.c11) < M_voigt
+    assert float(ds.shear_modulus) < G_voigt and float(ds.c66) < G_voigt
