@@ -4,7 +4,8 @@ item 3).
 A compacted pack (``--size`` largest diameters, default 4 x 4 x 8, seed 3, 10 MPa: the pack
 of ``md_omega_convergence.py`` shortened) is cemented in its core window to the cement
 fractions ``S_c * porosity`` of ``--saturations`` (default 0.03, 0.05, 0.1, 0.2: the onset of
-quartz cement) at each ``--omega``, with rotations (the default of ``md.acoustic_system``),
+quartz cement) at each ``--omega``, with rotations (the default of ``md.acoustic_system``;
+``--translations``: without),
 and its static P and S moduli solved (``md.static_moduli``). Two representations:
 
 * ``cells`` (before): the coating as whole cells, the volume rule of
@@ -34,7 +35,7 @@ import numpy as np  # noqa: E402
 NAME = "md_film_convergence"
 
 
-def member(pack, lat, fraction, scheme, method, slab):
+def member(pack, lat, fraction, scheme, method, slab, rotations=True):
     """One cemented member: moduli and wall times."""
     import md
     from md.along_depth import cement_cells
@@ -48,7 +49,7 @@ def member(pack, lat, fraction, scheme, method, slab):
         fill, _ = cement_fill(pack, lat, fraction, scheme)
     t1 = time.perf_counter()
     system = md.acoustic_system(pack, lat, fill, md.HARD_CEMENT, interface="facet",
-                                slab_thickness=slab)
+                                slab_thickness=slab, rotations=rotations)
     t2 = time.perf_counter()
     res = static_moduli(system, ("p", "s"))
     t3 = time.perf_counter()
@@ -104,6 +105,8 @@ def main(argv=None):
     ap.add_argument("--cells-max-omega", type=float, default=12.0,
                     help="largest Omega of the whole-cell (before) runs")
     ap.add_argument("--tag", default="")
+    ap.add_argument("--translations", action="store_true",
+                    help="particles translate only (rotations=False of md.acoustic_system)")
     args = ap.parse_args(argv)
     _common.announce_source()
     size = tuple(args.size)
@@ -128,7 +131,8 @@ def main(argv=None):
                     continue
                 row = dict(scheme=scheme, saturation=sat, method=method, omega=omega,
                            seconds_lattice=t_lat,
-                           **member(pack, lat, sat * phi, scheme, method, slab))
+                           **member(pack, lat, sat * phi, scheme, method, slab,
+                                    not args.translations))
                 row["seconds_total"] = (t_lat + row["seconds_fill"] + row["seconds_system"]
                                         + row["seconds_solve"])
                 rows.append(row)
@@ -146,7 +150,8 @@ def main(argv=None):
             df.loc[g.index, f"{var}_error_vs_finest"] = v / v[-1] - 1
     attrs = _common.environment_attrs(
         benchmark=NAME, size=" ".join(f"{s:g}" for s in size), n_grains=pack.n_grains,
-        porosity=phi, cement="hard (Table II)", compaction="10 MPa", rotations="yes",
+        porosity=phi, cement="hard (Table II)", compaction="10 MPa",
+        rotations="no" if args.translations else "yes",
         interface="facet", pack_seconds=t_pack, **_common.md_source_attrs())
     _common.write_csv(df, _common.result_path(NAME, "csv", args.tag), attrs)
     plot(df, _common.result_path(NAME, "png", args.tag))

@@ -5,7 +5,9 @@ Two touching quartz grains joined by hard or soft contact cement (Table II) of r
 centre), built at increasing resolution Omega with both grain-cement interface rules of
 ``md.interface`` (``patch``, the default, and the source's per-cell ``paper`` rule). The
 static normal and tangential stiffness of the bond
-(``md.cemented_contact.lattice_contact_stiffness``, a sparse direct solve) are compared with
+(``md.cemented_contact.lattice_contact_stiffness``, a sparse direct solve; the patch rule with
+the cement particles translating only and with them rotating too, ``rotations`` of
+``md.acoustic_system``, the default of the MD engine) are compared with
 the integral equation of Dvorkin et al. (1994) that
 ``rockcem.contact_integral.cemented_contact_stiffness`` solves (k = pi M_c R S_n, pi G_c R S_t)
 and with its rigid-cement limit (the welded contact). For the patch rule the last two
@@ -34,22 +36,25 @@ def contact_rows(alpha, cement, name, omegas):
     th = theory_contact_stiffness(alpha, cement=cement)
     welded = theory_contact_stiffness(alpha, limit="rigid_cement")
     rows = []
-    for interface in ("patch", "paper"):
+    for interface, rotations in (("patch", False), ("patch", True), ("paper", False)):
         for omega in sorted(omegas):
             t0 = time.perf_counter()
             try:
-                k = lattice_contact_stiffness(alpha, omega, cement=cement, interface=interface)
+                k = lattice_contact_stiffness(alpha, omega, cement=cement, interface=interface,
+                                              rotations=rotations)
             except ValueError as err:
                 print(f"a/R {alpha} Omega {omega:g}: {err}")
                 continue
-            rows.append(dict(cement=name, alpha=alpha, interface=interface, omega=omega,
+            rows.append(dict(cement=name, alpha=alpha, interface=interface,
+                             rotations="yes" if rotations else "no", omega=omega,
                              kn=k.normal, kt=k.tangential, kn_theory=th.normal,
                              kt_theory=th.tangential, kn_welded=welded.normal,
                              kt_welded=welded.tangential, kn_ratio=k.normal / th.normal,
                              kt_ratio=k.tangential / th.tangential,
                              seconds=time.perf_counter() - t0))
             r = rows[-1]
-            print(f"{name} a/R {alpha} {interface:5s} Omega {omega:3g}: kn/theory "
+            print(f"{name} a/R {alpha} {interface:5s} rot {rotations:d} Omega {omega:3g}: "
+                  f"kn/theory "
                   f"{r['kn_ratio']:.3f} kt/theory {r['kt_ratio']:.3f} ({r['seconds']:.1f} s)",
                   flush=True)
     return rows
@@ -75,7 +80,8 @@ def main(argv=None):
     df = pd.DataFrame(rows)
     # First-order Richardson limit of the patch rule from its two finest resolutions.
     extra = []
-    for (name, alpha, interface), g in df.groupby(["cement", "alpha", "interface"]):
+    for (name, alpha, interface, rotations), g in df.groupby(["cement", "alpha", "interface",
+                                                               "rotations"]):
         g = g.sort_values("omega")
         if interface != "patch" or len(g) < 2:
             continue
@@ -84,7 +90,8 @@ def main(argv=None):
         for key in ("kn_ratio", "kt_ratio"):
             f1, f2 = g[key].values[-2:]
             rich[key] = f2 + (f2 - f1) * o1 / (o2 - o1)       # error ~ 1/Omega
-        extra.append(dict(cement=name, alpha=alpha, interface="patch_richardson", omega=np.inf,
+        extra.append(dict(cement=name, alpha=alpha, interface="patch_richardson",
+                          rotations=rotations, omega=np.inf,
                           kn_ratio=rich["kn_ratio"], kt_ratio=rich["kt_ratio"]))
     df = pd.concat([df, pd.DataFrame(extra)], ignore_index=True)
     attrs = _common.environment_attrs(
@@ -99,11 +106,15 @@ def main(argv=None):
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
     for ax, key, title in zip(axes, ("kn_ratio", "kt_ratio"), ("normal", "tangential")):
-        for (name, alpha, interface), g in df[np.isfinite(df.omega)].groupby(
-                ["cement", "alpha", "interface"]):
-            ax.plot(g.omega, g[key], ("o-" if interface == "patch" else "x--")
-                    if name == "hard" else ("s:" if interface == "patch" else "+:"),
-                    label=f"{name}, a/R {alpha:g}, {interface}")
+        for (name, alpha, interface, rotations), g in df[np.isfinite(df.omega)].groupby(
+                ["cement", "alpha", "interface", "rotations"]):
+            if alpha != 0.5 and interface != "patch":
+                continue
+            style = ("x--" if interface == "paper" else ("o-" if rotations == "yes" else "s:"))
+            ax.plot(g.omega, g[key], style, color="C0" if name == "hard" else "C1",
+                    alpha=1.0 if alpha == 0.5 else 0.45,
+                    label=f"{name}, a/R {alpha:g}, {interface}"
+                          f"{', rot.' if rotations == 'yes' else ''}")
         ax.axhline(1.0, color="k", lw=0.8)
         ax.set(xlabel="resolution Omega = R/c_w", title=f"{title} stiffness / integral equation",
                xscale="log")
@@ -111,7 +122,8 @@ def main(argv=None):
     axes[1].legend(fontsize=7, ncol=2)
     _common.save_figure(fig, _common.result_path(NAME, "png"))
     print(_common.markdown(df, {"cement": ("cement", "s"), "alpha": ("a/R", "g"),
-                                "interface": ("rule", "s"), "omega": ("Omega", "g"),
+                                "interface": ("rule", "s"), "rotations": ("rot.", "s"),
+                                "omega": ("Omega", "g"),
                                 "kn_ratio": ("k_n / theory", ".3f"),
                                 "kt_ratio": ("k_t / theory", ".3f"), "seconds": ("s", ".1f")}))
 

@@ -97,13 +97,16 @@ def _grain_cement(centre, cw, eps):
 
 def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                    material: GrainMaterial = QUARTZ, cement: CementMaterial = HARD_CEMENT,
-                   interface="facet"):
+                   interface="facet", rotations=False):
     r"""The linearised system of one cemented contact (module docstring): two grains (particles
     0 and 1, no Hertz contact between them) and the cement particles, on a lattice of width
     :math:`R/\Omega` whose cell faces lie on the contact plane and on two planes through the
     axis. Parameters as :func:`lattice_contact_stiffness`; returns an
-    :class:`md.AcousticSystem` (no dashpots)."""
-    from .acoustic import AcousticSystem, _lattice_springs, _lattice_table
+    :class:`md.AcousticSystem` (no dashpots; with ``rotations`` the six degrees of freedom of
+    :func:`md.acoustic_system`'s ``rotations=True``: bonds at their contact points, the
+    rotating lattice's constants)."""
+    from .acoustic import (_LATTICE_LENGTH2, AcousticSystem, _lattice_springs, _lattice_table,
+                           grain_cement_arms)
     from .interface import interface_stiffness
     from .space import Box
 
@@ -123,23 +126,30 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     # Each grain's cells face the other grain: "facet" and "patch" are the same here.
     kn, kt = interface_stiffness(grain, cell, normal, np.full(2, R), table, 2, cw, material,
                                  cement, interface, 1 - grain)
-    _, _, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, "waves")
+    _, _, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, "waves", rotations)
     grains = np.array([[0.0, 0.0, -(1.0 + eps)], [0.0, 0.0, 1.0 + eps]]) * R
     m_grain = material.density * 4.0 / 3.0 * np.pi * R**3
     zero = np.zeros(grain.size)
     side = shape[0] * cw
+    rot = {}
+    if rotations:       # a grain-cement bond acts at the cell centre (md.acoustic_system)
+        arm_g, arm_c = grain_cement_arms(centre[cell] * R - grains[grain], normal)
+        rot = {"arm_i": arm_g, "arm_j": arm_c,
+               "lattice_arm": 0.5 * cw * np.sqrt(_LATTICE_LENGTH2),
+               "inertia": np.concatenate([np.full(2, 0.4 * m_grain * R**2),
+                                          np.full(n_c, m_c * cw**2 / 6.0)])}
     return AcousticSystem(
         np.concatenate([grains, centre * R]), np.concatenate([[m_grain, m_grain],
                                                               np.full(n_c, m_c)]), 2,
         Box(side, side, -2.0 * R, 2.0 * R), grain.astype(np.int32), (cell + 2).astype(np.int32),
         normal, kn, kt, zero, zero, table, lat_kn, lat_kt, R, (-2.0 * R, 2.0 * R),
-        {"cell_width": cw, "n_cement": n_c, "interface": interface})
+        {"cell_width": cw, "n_cement": n_c, "interface": interface}, **rot)
 
 
 def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                               material: GrainMaterial = QUARTZ,
                               cement: CementMaterial = HARD_CEMENT,
-                              interface="facet") -> ContactStiffness:
+                              interface="facet", rotations=False) -> ContactStiffness:
     r"""Static normal and tangential stiffness of one cemented contact on the lattice.
 
     Parameters
@@ -158,6 +168,9 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
     cement : CementMaterial
     interface : {"facet", "patch", "paper"}
         Grain–cement rule (:mod:`md.interface`).
+    rotations : bool
+        Whether the cement particles rotate (:func:`md.acoustic_system`'s ``rotations``); the
+        two grains are held in translation and rotation either way, the cement relaxes.
 
     Returns
     -------
@@ -170,28 +183,31 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
         For inputs out of range, or when no cell (or no connected path of cells) lies in the
         cement at this resolution.
     """
-    import scipy.sparse.linalg as spla
-
-    from .static import _load_path
+    from .static import _load_path, _lu_preconditioner, _pcg
 
     system = contact_system(radius_ratio, resolution, radius=radius,
                             thickness_ratio=thickness_ratio, material=material, cement=cement,
-                            interface=interface)
-    n = system.n_particles
+                            interface=interface, rotations=rotations)
+    n, dof = system.n_particles, system.dof
     flag = np.zeros(n, np.int8)
     flag[0] = 1
     if not _load_path(system, flag)[1]:
         raise ValueError("the cement does not join the two grains at this resolution")
     flag[1] = 2
-    free = np.flatnonzero(np.repeat(_load_path(system, flag) & (flag == 0), 3))
+    free = np.repeat((_load_path(system, flag) & (flag == 0))[:, None], dof, axis=1)
+    free_idx = np.flatnonzero(free)
     K = system.stiffness_matrix().tocsr()
-    solve = spla.factorized(K[free][:, free].tocsc())
+    Kff = K[free_idx][:, free_idx]
+    # K_ff is singular with rotations (a cell bonded at two points turns about the line through
+    # them): the factor of md.static pins those mechanisms, which carry no load.
+    apply_, precondition = _lu_preconditioner(system, Kff, free, free_idx)
     out = []
     for ax in (2, 0):
-        u = np.zeros(3 * n)
-        u[3 + ax] = 1.0
-        u[free] = solve(-(K[free][:, [3 + ax]].toarray().ravel()))
-        out.append(float((K @ u)[3 + ax]))
+        u = np.zeros(n * dof)
+        u[dof + ax] = 1.0
+        u[free_idx], _ = _pcg(apply_, precondition, -(K[free_idx][:, [dof + ax]].toarray()
+                                                        .ravel()), 1e-12, 200)
+        out.append(float((K @ u)[dof + ax]))
     return ContactStiffness(*out)
 
 
