@@ -457,7 +457,7 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
         ``contact_radius`` (shape (p,), m) the radius of each contact. A facet of grain
         :math:`i` facing a grain :math:`j` it touches encloses their contact disc, whose punch
         on :math:`i`'s half-space the contact bond already carries: the facet's punch is then
-        the annulus outside it, :math:`2E_g^*(a_p - a_c)` and :math:`8G_g(a_p - a_c)/(2-\nu_g)`
+        the annulus outside it, :math:`2E_g^*(a_p - a_c)` and :math:`8G_g(a_p - a_c)/(2-\\nu_g)`
         (the stiffness of a rigid flat punch is linear in its radius, so the disc and the
         annulus moving together are the punch of radius :math:`a_p`; Johnson 1985, Sect. 3.8;
         the rule :func:`film_bridges` applies to a bridge around a Hertzian contact), at least
