@@ -379,6 +379,22 @@ def test_eos_ranges_in_validity_warnings():
                      "end of the equation of state's stated range: extrapolated"]
 
 
+@pytest.mark.parametrize("fluid, T, P, label, rule", [
+    ("water", 100.0, 120.0, "water (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("brine", 100.0, 120.0, "brine (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("oil", 100.0, 120.0, "oil (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("gas", 100.0, 120.0, "gas (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("co2", 900.0, 100.0, "CO2 (Span–Wagner)", "temperature above 826.85 °C"),
+    ("methane", 100.0, 1200.0, "methane (Setzmann–Wagner)", "pressure above 1000 MPa"),
+])
+def test_every_fluid_of_the_validity_table_names_its_source(fluid, T, P, label, rule):
+    """Each name of the table gets its own source and its own rules (one state that breaks
+    one rule of that fluid)."""
+    lines = pf.validity_warnings(fluid, T, P, depth=4000.0)
+    assert lines and all(line.startswith(f"{label} at 4000 m: ") for line in lines)
+    assert any(rule in line for line in lines)
+
+
 @needs_coolprop
 def test_eos_extrapolation_is_computed():
     """Between the stated range and the refusal the value is CoolProp's, as at any state."""
@@ -498,7 +514,7 @@ def test_if97_saturation_pressure():
 def test_validity_warnings():
     z = np.linspace(0.0, 6000.0, 13)
     T = 15.0 + 0.03 * z
-    P = pf.STANDARD_ATMOSPHERE + 1.04 * 9.81 * z / 1000.0
+    P = pf.STANDARD_ATMOSPHERE + 1.04 * 9.80665 * z / 1000.0
     assert pf.validity_warnings("brine", T, P, salinity=0.1, depth=z) == []
     lines = pf.validity_warnings("brine", [150.0, 100.0], [0.3, 120.0], salinity=[0.31, 0.0],
                                  depth=[100.0, 5000.0])
