@@ -266,7 +266,7 @@ def pressures(path: BurialPath, *, sediment_density=2.5, water_density=1.04) -> 
     --------
     >>> p = pressures(linear_path(30.0, 40.0, 15.0, 1000.0, depth_step=1000.0))
     >>> [round(float(v), 4) for v in p.effective]
-    [0.0, 14.3226]
+    [0.0, 14.3177]
     """
     if not isinstance(path, BurialPath):
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")

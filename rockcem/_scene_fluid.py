@@ -40,7 +40,10 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
 
     ``section`` is the scene's validated ``[fluid]`` table, ``catalogue_fluid`` the name of
     ``[materials] fluid``. Raises ``ValueError`` naming the fluid where a correlation has no
-    answer (an oil below its bubble point, a gas below its pseudo-critical temperature).
+    answer (an oil below its bubble point, a gas below its pseudo-critical temperature), or
+    where CO2 or methane needs CoolProp and it is absent or fails to import (one line that says
+    which). Where a fluid is computed outside its source's range (Batzle & Wang's fitted data,
+    an equation of state's stated range) ``warnings`` says so, depth by depth.
     """
     from . import pore_fluids as pf
     from .constants import STANDARD_ATMOSPHERE
@@ -84,6 +87,11 @@ def scene_fluid(section, catalogue_fluid, depth, temperature, pore_pressure) -> 
                        api=section["oil_api"] if section["oil_api"] is not None else 30.0,
                        gas_oil_ratio=section["gas_oil_ratio"] or 0.0, gas_gravity=gravity)
         else:
+            from .pore_fluids.reference import _coolprop_problem
+
+            problem = _coolprop_problem()     # absent or broken: one line, not a traceback
+            if problem is not None:
+                raise ValueError(problem)
             h = getattr(pf, kind)(T[inside], P[inside])
     K_h[inside], rho_h[inside] = h.K, h.rho
     extra = {"gravity": gravity} if kind == "gas" else \

@@ -38,8 +38,10 @@ GAS_CONSTANT_CAL = 1.986
 #: Gas constant in J/(mol K) (CODATA 2018, exact).
 GAS_CONSTANT_J = 8.314462618
 
-#: Standard acceleration of gravity, m/s² (Carcione et al. 2022 use 9.81).
-STANDARD_GRAVITY = 9.81
+#: Standard acceleration of gravity, m/s²: g_n = 9.80665 exactly (3rd CGPM 1901; CODATA, ISO
+#: 80000-3). Carcione et al. (2022, Sect. 2) round it to 9.81, which puts every pressure along
+#: depth 0.034 % higher; their figures are not read to that precision.
+STANDARD_GRAVITY = 9.80665
 
 #: 0 °C in kelvin.
 ZERO_CELSIUS_IN_KELVIN = 273.15

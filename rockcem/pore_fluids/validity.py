@@ -8,6 +8,7 @@ from ..constants import ZERO_CELSIUS_IN_KELVIN
 from ..validation import as_array, broadcast
 from ._common import _GAS_GRAVITY_FIT, _P_FIT, _RHO0_FIT, _S_FIT
 from .batzle_wang import _reference_density
+from .reference import _limits as _eos_limits
 
 __all__ = ["validity_warnings"]
 
@@ -35,7 +36,13 @@ def _where(mask, depth, T, P):
     if depth is not None:                   # as the rock's warnings write it
         return _interval(np.broadcast_to(np.asarray(depth, dtype=float), mask.shape), mask)
     t, p = T[mask], P[mask]
-    return f"{t.min():.4g}–{t.max():.4g} °C, {p.min():.4g}–{p.max():.4g} MPa"
+    return f"{_span(t)} °C, {_span(p)} MPa"
+
+
+def _span(x):
+    """``min–max``, or the one value where they are equal."""
+    lo, hi = f"{x.min():.4g}", f"{x.max():.4g}"
+    return lo if lo == hi else f"{lo}–{hi}"
 
 
 def validity_warnings(fluid, temperature, pressure, *, salinity=0.0, gravity=0.6,
@@ -58,9 +65,11 @@ def validity_warnings(fluid, temperature, pressure, *, salinity=0.0, gravity=0.6
       paper shows 0.6 and 1.2), pressure above 100 MPa (the paper's figures reach 50), a
       pseudo-reduced temperature below 1 (the gas may be liquid), and pseudo-reduced temperature
       and pressure both within 0.1 of 1, where B&W say the approximation fails.
-    - ``"co2"``, ``"methane"``: within 3 °C and 1 MPa of the critical point, where the modulus
-      changes steeply with temperature and pressure (the equation of state holds; the inputs'
-      errors matter).
+    - ``"co2"``, ``"methane"``: temperature or pressure above the equation of state's stated
+      range (Span–Wagner: 1100 K, 800 MPa; Setzmann–Wagner: 625 K, 1000 MPa), where it is
+      extrapolated (:func:`co2` and :func:`methane` refuse what lies half as far again beyond);
+      and within 3 °C and 1 MPa of the critical point, where the modulus changes steeply with
+      temperature and pressure (the equation of state holds; the inputs' errors matter).
 
     Parameters
     ----------
@@ -116,6 +125,11 @@ def validity_warnings(fluid, temperature, pressure, *, salinity=0.0, gravity=0.6
                    ("pseudo-reduced temperature and pressure both within 0.1 of 1, where the "
                     "approximation fails"))]
     if fluid in ("co2", "methane"):
+        t_valid, p_valid, _, _ = _eos_limits(fluid)
+        rules += [(T > t_valid, (f"temperature above {t_valid:.6g} °C, the end of the equation "
+                                 "of state's stated range: extrapolated")),
+                  (P > p_valid, (f"pressure above {p_valid:g} MPa, the end of the equation of "
+                                 "state's stated range: extrapolated"))]
         Tc, Pc = (30.978, 7.3773) if fluid == "co2" else (-82.586, 4.5992)
         rules.append(((np.abs(T - Tc) <= 3.0) & (np.abs(P - Pc) <= 1.0),
                       (f"near the critical point ({Tc:g} °C, {Pc:g} MPa): the modulus "

@@ -2,7 +2,8 @@
 
 Every value is written out here from where it is defined: the Julian year (IAU, 365.25 d of
 86 400 s), the gas constant R = 1.986 cal/(mol K) of Pytte & Reynolds (1989) as used in
-Carcione et al. 2022, App. A, standard gravity 9.81 m/s2 as in Carcione et al. 2022, and the SI
+Carcione et al. 2022, App. A, standard gravity g_n = 9.80665 m/s2 (exact by definition, 3rd CGPM
+1901; CODATA, ISO 80000-3), and the SI
 prefixes (1 GPa = 1000 MPa).
 """
 
@@ -34,9 +35,11 @@ def test_gas_constant_in_joules_is_avogadro_times_boltzmann():
     assert c.GAS_CONSTANT_J == 8.314462618
 
 
-def test_gravity_as_in_carcione2022():
-    assert c.STANDARD_GRAVITY == 9.81
-    assert c.STANDARD_GRAVITY == pytest.approx(9.80665, abs=5e-3)  # the CGPM standard, rounded
+def test_gravity_is_the_standard_acceleration_of_gravity():
+    # g_n = 9.80665 m/s2 exactly (3rd CGPM 1901, CODATA, ISO 80000-3); Carcione et al. 2022 round
+    # it to 9.81, 0.034 % more, which is not the standard value.
+    assert c.STANDARD_GRAVITY == 9.80665
+    assert c.STANDARD_GRAVITY != 9.81
 
 
 def test_gpa_per_mpa():

@@ -342,6 +342,70 @@ def test_eos_refuses_what_it_cannot_do():
         pf.co2(-70.0, 0.1)                              # below the triple point
 
 
+# Stated ranges of validity (Span & Wagner 1996, title: triple point to 1100 K, up to 800 MPa;
+# Setzmann & Wagner 1991: melting line to 625 K, up to 1000 MPa), in degC and MPa.
+CO2_RANGE = (1100.0 - KELVIN, 800.0)
+METHANE_RANGE = (625.0 - KELVIN, 1000.0)
+
+
+@pytest.mark.parametrize("fn, T, P, name, limit", [
+    (pf.co2, 5000.0, 100.0, "temperature", 1.5 * 1100.0 - KELVIN),      # issue 30's cases
+    (pf.methane, 400.0, 2000.0, "pressure", 1.5 * 1000.0),
+    (pf.methane, 700.0, 10.0, "temperature", 1.5 * 625.0 - KELVIN),
+    (pf.co2, 1400.0, 10.0, "temperature", 1.5 * 1100.0 - KELVIN),
+    (pf.methane, [50.0, 664.4], 10.0, "temperature", 1.5 * 625.0 - KELVIN),
+])
+def test_eos_refuses_beyond_its_extrapolation(fn, T, P, name, limit):
+    """Beyond half as far again as the stated upper bound (as Batzle & Wang's pressure: fitted
+    to 100 MPa, refused above 150): a ValueError naming the input and the limit, before
+    CoolProp is needed."""
+    with pytest.raises(ValueError, match=rf"{name} must be at most {limit:.6g}"):
+        fn(T, P)
+
+
+def test_eos_ranges_in_validity_warnings():
+    """Above the stated range, inside the extrapolation: one line per input that leaves it."""
+    assert pf.validity_warnings("co2", [300.0, CO2_RANGE[0]], [100.0, CO2_RANGE[1]]) == []
+    assert pf.validity_warnings("methane", METHANE_RANGE[0], METHANE_RANGE[1]) == []
+    lines = pf.validity_warnings("methane", [100.0, 400.0, 495.0], [50.0, 100.0, 1200.0],
+                                 depth=[1000.0, 6000.0, 7000.0])
+    assert lines == [
+        "methane (Setzmann–Wagner) at 6000–7000 m: temperature above 351.85 °C, the end of the "
+        "equation of state's stated range: extrapolated",
+        "methane (Setzmann–Wagner) at 7000 m: pressure above 1000 MPa, the end of the equation "
+        "of state's stated range: extrapolated"]
+    lines = pf.validity_warnings("co2", 900.0, 100.0)
+    assert lines == ["CO2 (Span–Wagner) at 900 °C, 100 MPa: temperature above 826.85 °C, the "
+                     "end of the equation of state's stated range: extrapolated"]
+
+
+@pytest.mark.parametrize("fluid, T, P, label, rule", [
+    ("water", 100.0, 120.0, "water (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("brine", 100.0, 120.0, "brine (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("oil", 100.0, 120.0, "oil (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("gas", 100.0, 120.0, "gas (Batzle & Wang 1992)", "pressure above 100 MPa"),
+    ("co2", 900.0, 100.0, "CO2 (Span–Wagner)", "temperature above 826.85 °C"),
+    ("methane", 100.0, 1200.0, "methane (Setzmann–Wagner)", "pressure above 1000 MPa"),
+])
+def test_every_fluid_of_the_validity_table_names_its_source(fluid, T, P, label, rule):
+    """Each name of the table gets its own source and its own rules (one state that breaks
+    one rule of that fluid)."""
+    lines = pf.validity_warnings(fluid, T, P, depth=4000.0)
+    assert lines and all(line.startswith(f"{label} at 4000 m: ") for line in lines)
+    assert any(rule in line for line in lines)
+
+
+@needs_coolprop
+def test_eos_extrapolation_is_computed():
+    """Between the stated range and the refusal the value is CoolProp's, as at any state."""
+    for fn, fluid, T, P in [(pf.methane, "Methane", 495.0, 50.0), (pf.co2, "CO2", 900.0, 100.0),
+                            (pf.methane, "Methane", 100.0, 1200.0)]:
+        rho, vp = coolprop(fluid, T, P)
+        f = fn(T, P)
+        assert float(f.rho) == pytest.approx(float(rho), rel=1e-12)
+        assert float(f.vp) == pytest.approx(float(vp), rel=1e-12)
+
+
 def test_missing_coolprop_message(monkeypatch):
     monkeypatch.setitem(sys.modules, "CoolProp", None)
     monkeypatch.setitem(sys.modules, "CoolProp.CoolProp", None)
@@ -450,7 +514,7 @@ def test_if97_saturation_pressure():
 def test_validity_warnings():
     z = np.linspace(0.0, 6000.0, 13)
     T = 15.0 + 0.03 * z
-    P = pf.STANDARD_ATMOSPHERE + 1.04 * 9.81 * z / 1000.0
+    P = pf.STANDARD_ATMOSPHERE + 1.04 * 9.80665 * z / 1000.0
     assert pf.validity_warnings("brine", T, P, salinity=0.1, depth=z) == []
     lines = pf.validity_warnings("brine", [150.0, 100.0], [0.3, 120.0], salinity=[0.31, 0.0],
                                  depth=[100.0, 5000.0])
