@@ -233,6 +233,8 @@ def well_path(source) -> Path:
     path = Path(source)
     if path.is_file():
         return path
+    if path.is_dir():
+        raise ValueError(f"well file {str(source)!r} is a folder, not a file")
     parent = path.parent.parts
     if not parent or parent[-2:] == ("datasets", "wells"):
         shipped = shipped_wells()
@@ -356,6 +358,9 @@ def format_read_report(report) -> str:
     lines = [first]
     if depth.get("rows_without_depth"):
         lines[0] += f"; {depth['rows_without_depth']} rows without a depth left out"
+    if depth.get("rows_repeating_a_depth"):
+        lines[0] += (f"; {depth['rows_repeating_a_depth']} rows repeating an earlier depth "
+                     f"left out (the first on line {depth.get('first_repeat_line')})")
     if report.get("depth_offset_m"):
         lines[0] += f"; depth offset {report['depth_offset_m']:g} m"
     for e in report["curves"]:
