@@ -128,17 +128,8 @@ def test_count_reaches_the_md_run(tmp_path, no_settling, monkeypatch):
 
 
 # ----------------------------------------------------------------------------- stage folder
-SCENE = """name = "mdscene"
-lithology = "sandstone"
-[path]
-max_depth = 3000.0
-depth_step = 100.0
-[models.md]
-depths = [2500.0]
-size = [3.0, 3.0, 8.0]
-resolution = 2.0
-{extra}
-"""
+SCENE = ('name = "stages"\nlithology = "sandstone"\n[path]\nmax_depth = 2000.0\n'
+         '[models.md]\ncount = 1\nsize = [3.0, 3.0, 8.0]\n{extra}\n')
 
 
 def test_the_stage_folder_follows_o(tmp_path, capsys, monkeypatch):
