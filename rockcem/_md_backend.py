@@ -373,10 +373,12 @@ def trusted_members(vp, vp_error, vs, vs_error, threshold) -> np.ndarray:
 #: 0.85 GB before anything refused it.
 MAX_LATTICE_CELLS = 1.0e7
 #: Peak memory of one member per lattice cell, bytes: the lattice, the linearised system and
-#: the sparse LU factors of the static TI solve, measured (``ru_maxrss``, above the loaded pack)
-#: on a 3 x 3 x 8 pack of 96 grains compacted to 20 MPa with 8 % contact cement: 390 and 313
-#: bytes per cell at Omega 9 and 12 (5.0e5 and 1.1e6 cells); the fill-in of the LU grows a
-#: little faster than the cells, so this is a lower estimate for a larger lattice.
+#: the sparse LU factors of the static TI solve, measured (``ru_maxrss`` above the loaded pack,
+#: one process per resolution) on a 3 x 3 x 8 pack of 96 grains compacted to 20 MPa with 8 %
+#: contact cement: 195 MB at Omega 9 (5.0e5 cells, 390 bytes per cell) and 358 MB at Omega 12
+#: (1.1e6 cells, 313 bytes per cell); 350 is their mean. At Omega 6 (1.5e5 cells) the same
+#: measure gave 346 MB, more than at Omega 9, unexplained (a cost that does not scale with the
+#: cells): an estimate to within a factor of a few, meant for lattices far above these.
 LATTICE_BYTES_PER_CELL = 350.0
 #: Time of one member per lattice cell, s (one core of the shared 2-core test machine, the same
 #: runs: 47 s and 108 s, 9.4e-5 and 9.5e-5 s per cell).
