@@ -36,7 +36,8 @@ What happens, in order (the reasoning is in docs/user_guide/md_along_depth.md):
 
 Every compacted (and reconstructed) pack, every grown cement and every measured member is saved
 in ``workdir`` (``pack/``, ``cement/``, ``members/``), so an interrupted run resumes; a stage
-file made with other options is redone.
+file made with other options is redone, and so is one that cannot be read (empty, truncated,
+missing a variable), with a :class:`StageFileWarning` naming it.
 """
 
 from __future__ import annotations
@@ -44,11 +45,18 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["carry_down", "SCHEMES", "MEASURES", "COMPACTIONS", "CEMENT_HISTORIES"]
+__all__ = ["carry_down", "SCHEMES", "MEASURES", "COMPACTIONS", "CEMENT_HISTORIES",
+           "StageFileWarning"]
+
+
+class StageFileWarning(UserWarning):
+    """A stage file of :func:`carry_down` that could not be read (empty, truncated, missing a
+    variable) is redone; the warning names it."""
 
 #: Cementation schemes a depth may use (:func:`md.grow_cement`).
 SCHEMES = ("contact", "coating", "pore_body", "pendular")
@@ -80,16 +88,58 @@ def _key(options: dict) -> str:
     return hashlib.sha1(json.dumps(options, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _saved(path: Path, key: str):
-    """The Dataset saved at ``path`` if it was made with the options fingerprinted by ``key``."""
+def _no_folder(path: Path):
+    """Refuse a folder where a stage file goes (the redone stage could not replace it)."""
+    if path.is_dir():
+        raise ValueError(f"MD stage file {path} is a folder: remove it (the stage folder holds "
+                         "the stage files of carry_down only)")
+
+
+def _redo(path: Path, why: str):
+    warnings.warn(f"MD stage file {path} cannot be read ({why}): that stage is redone",
+                  StageFileWarning, stacklevel=3)
+
+
+def _saved(path: Path, key: str, variables=(), attrs=()):
+    """The Dataset saved at ``path`` if it was made with the options fingerprinted by ``key``;
+    None if there is none, if it was made with other options, or if it cannot be read or lacks
+    one of ``variables`` or ``attrs`` (then with a :class:`StageFileWarning`: the stage is
+    redone and the file replaced). A folder at ``path`` is refused (ValueError)."""
     import xarray as xr
 
+    _no_folder(path)
     if not path.exists():
         return None
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        if ds.attrs.get("options_key") != key:
-            return None
-        return ds.load()
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            if ds.attrs.get("options_key") != key:
+                return None
+            missing = [v for v in variables if v not in ds.variables] + \
+                [a for a in attrs if a not in ds.attrs]
+            if missing:
+                _redo(path, f"no {missing[0]}")
+                return None
+            return ds.load()
+    except (OSError, ValueError, RuntimeError) as exc:
+        # netCDF4: OSError for an empty, truncated or foreign file, RuntimeError (HDF error)
+        # for a damaged one.
+        _redo(path, " ".join(str(exc).split())[:120] or type(exc).__name__)
+        return None
+
+
+def _saved_pack(path: Path, key: str):
+    """The pack saved at ``path`` if made with the options of ``key`` (as :func:`_saved`)."""
+    from .state import load_pack
+
+    _no_folder(path)
+    if not path.exists():
+        return None
+    try:
+        done = load_pack(path)
+    except ValueError as exc:
+        _redo(path, str(exc))
+        return None
+    return done if done.metadata.get("options_key") == key else None
 
 
 def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload=False):
@@ -97,17 +147,16 @@ def _compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload
     a stage file; returns it, the key of the chain of stages that made it and its file (None
     when ``pack`` already bears ``stress``: it is returned as it is)."""
     from .protocols import compact
-    from .state import load_pack, save_pack
+    from .state import save_pack
 
     if not unload and pack.metadata.get("stress_zz", -np.inf) >= stress:
         return pack, chain_key, None    # already there (a depth of the same stress)
     key = _key({"previous": chain_key, "stress": float(stress), "strain_step": strain_step,
                 "unload": unload})
     path = folder / f"{'unload' if unload else 'compact'}_{stress / 1e6:.6g}MPa_{key[:6]}.nc"
-    if path.exists():
-        done = load_pack(path)
-        if done.metadata.get("options_key") == key:
-            return done, key, path
+    done = _saved_pack(path, key)
+    if done is not None:
+        return done, key, path
     out = pack
     if not unload and pack.metadata.get("stress_zz", 0.0) < 0.9 * stress:
         out = compact(out, target_stress=0.9 * float(stress), stress_measure="stress_zz",
@@ -126,14 +175,13 @@ def _reconstructed(pack, intergranular_volume, folder, chain_key, pack_file):
     (:func:`md.reconstruct.reconstruct`), saved as a stage file; returns it, its key and its
     file."""
     from .reconstruct import reconstruct
-    from .state import load_pack, save_pack
+    from .state import save_pack
 
     key = _key({"previous": chain_key, "reconstruct": float(intergranular_volume)})
     path = folder / f"reconstruct_{intergranular_volume:.6g}_{key[:6]}.nc"
-    if path.exists():
-        done = load_pack(path)
-        if done.metadata.get("options_key") == key:
-            return done, key, path
+    done = _saved_pack(path, key)
+    if done is not None:
+        return done, key, path
     out = reconstruct(pack, float(intergranular_volume))
     out.metadata["options_key"] = key
     save_pack(out, path)
@@ -227,10 +275,16 @@ def cement_cells(pack, lat, fraction, scheme, *, seed=0, carried=None, fill=Fals
 
 
 def _load_cells(path):
+    """The cemented cells of a cement stage file (written, or checked by :func:`_saved`, by
+    this run); a file that cannot be read now is named."""
     import xarray as xr
 
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds["cells"].values.astype(bool)
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return ds["cells"].values.astype(bool)
+    except (OSError, ValueError, RuntimeError, KeyError) as exc:
+        raise ValueError(f"MD stage file {path} cannot be read ({exc}); remove it and run "
+                         "again (the cement stage is then redone)") from None
 
 
 def _grown_cement(pack, pack_key, fraction, scheme, omega, seed, previous, folder, fill):
@@ -251,7 +305,7 @@ def _grown_cement(pack, pack_key, fraction, scheme, omega, seed, previous, folde
                 "fraction": float(fraction), "scheme": scheme, "omega": float(omega),
                 "seed": int(seed), "fill": bool(fill)})
     path = folder / f"{scheme}_w{omega:g}_c{fraction:.6g}_{key[:6]}.nc"
-    done = _saved(path, key)
+    done = _saved(path, key, ("cells", "grain", "offset"), ("cement_window", "overflow"))
     if done is not None:
         return ((key, done["grain"].values.astype(np.int64), done["offset"].values), path,
                 float(done.attrs["cement_window"]), bool(done.attrs["overflow"]))
@@ -555,7 +609,7 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
             key = _key({"pack": here_key, "fraction": float(frac[i]), "scheme": scheme,
                         "omegas": omegas, "cement_keys": cement_keys, **options})
             path = folder / "members" / f"{now[i]:.6g}MPa_{scheme}_c{frac[i]:.6g}_{key[:6]}.nc"
-            done = _saved(path, key)
+            done = _saved(path, key, _member_variables())
             if done is None:
                 task = (str(here_file), 0.999 if fill else float(frac[i]), scheme, omegas,
                         cement, options, str(path), key, cells_files)

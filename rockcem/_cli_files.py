@@ -1,12 +1,14 @@
 """The files the ``rockcem`` commands read and write: :func:`output_file`, the check every
-command makes of each file it will write, before any work; :func:`no_such_file`, the message
-for a file name that does not exist, with the closest name of its folder."""
+command makes of each file it will write, before any work; :func:`unasked_output`, the check of
+a file a run writes without being asked by name (the scene's output); :func:`stage_folder`, the
+check of an MD stage folder; :func:`no_such_file`, the message for a file name that does not
+exist, with the closest name of its folder."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["no_such_file", "output_file"]
+__all__ = ["no_such_file", "output_file", "stage_folder", "unasked_output"]
 
 
 def no_such_file(source) -> str:
@@ -62,3 +64,83 @@ def output_file(given, default, *, what="-o", figure=False):
     out = default if given is None else given
     check(out, what=what if given is not None else "output file")
     return out
+
+
+#: The Dataset attribute naming the scene file a run of ``rockcem run`` came from (absolute
+#: path): :func:`unasked_output` lets a run replace only its own scene's earlier output.
+SCENE_FILE_ATTR = "scene_file"
+
+
+def unasked_output(out, scene_file):
+    """Check the file a run writes by default (the scene's ``output``, else ``<name>.nc``; no
+    ``-o``) before the run: it may replace only an earlier output of the same scene file.
+
+    An output never destroys a file it was not asked to write: a copied scene keeps its
+    ``name``, and would replace the output of the scene it was copied from.
+
+    Parameters
+    ----------
+    out : path-like
+        The default output file.
+    scene_file : path-like
+        The scene file being run.
+
+    Raises
+    ------
+    ValueError
+        One line, for an existing ``out`` that is not a rockcem output, or is the output of
+        another scene file (its attribute :data:`SCENE_FILE_ATTR`). An output written before
+        that attribute existed is replaced, as it always was.
+    """
+    import xarray as xr
+
+    path = Path(out)
+    if not path.is_file():
+        return
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            attrs = dict(ds.attrs)
+    except Exception:  # noqa: BLE001 (any file netCDF cannot open is not ours to replace)
+        attrs = {}
+    ours = SCENE_FILE_ATTR in attrs or "scene_toml" in attrs or \
+        str(attrs.get("title", "")).startswith("rockcem")
+    if not ours:
+        raise ValueError(f"output file {out} exists and is not the output of a rockcem run; "
+                         f"the run would replace it: give -o FILE, or move it away")
+    made_by = attrs.get(SCENE_FILE_ATTR)
+    here = str(Path(scene_file).resolve())
+    if made_by is not None and str(made_by) != here:
+        raise ValueError(f"output file {out} exists and is the output of another scene file, "
+                         f"{made_by} (a scene of the same name or output); the run would "
+                         f"replace it: give -o FILE, or another name or output in {scene_file}")
+
+
+def stage_folder(folder, out, *, what):
+    """Check the folder of the MD stage files before the run: not an existing file (nor under
+    one), not the output file.
+
+    Parameters
+    ----------
+    folder, out : path-like
+        The stage folder and the output file of the run.
+    what : str
+        The setting that names the folder, as messages say it (``"models.md.workdir"``).
+
+    Raises
+    ------
+    ValueError
+        One line naming ``what``.
+    """
+    import os
+
+    path = Path(folder)
+    if not str(folder).strip():
+        raise ValueError(f"{what} must name a folder; got {str(folder)!r}")
+    if os.path.realpath(path) == os.path.realpath(out):
+        raise ValueError(f"{what} {str(folder)!r} is the output file (-o): the stage files "
+                         f"need a folder of their own")
+    for parent in (path, *path.parents):
+        if parent.exists() and not parent.is_dir():
+            kind = "is a file" if parent == path else f"lies under the file {parent}"
+            raise ValueError(f"{what} {str(folder)!r} {kind}: it must be a folder (made if "
+                             f"missing)")

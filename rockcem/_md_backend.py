@@ -8,6 +8,7 @@ with ``[models.md]``. The mapping and its reasoning are in docs/user_guide/md_al
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -130,20 +131,6 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         k = idx[present_stress[idx] <= 0][0]
         raise ValueError(f"depth {depth[k]:g} m bears no effective stress today "
                          f"({present_stress[k]:.4g} MPa): the MD pack cannot be unloaded to it")
-    for key, lo in (("resolution", 1.0), ("slab", 0.0)):
-        if not params[key] > lo:
-            raise ValueError(f"{key} must be > {lo:g}; got {params[key]}")
-    params = resolve_checks(params)
-    if not 0 <= params["radius_spread"] < 1:
-        raise ValueError(f"radius_spread must lie in [0, 1); got {params['radius_spread']}")
-    from md.deposit import check_size
-
-    check_size(params["size"], (1.0 - params["radius_spread"], 1.0), name="models.md.size")
-    r_max = grain_size / 2.0 * 1e-3
-    g_mat, c_mat = _materials(grain, cement)
-    work = Path(params["workdir"]) if params["workdir"] else Path(workdir)
-    if not 1 <= params["samples"] <= 50:
-        raise ValueError(f"samples must lie in [1, 50]; got {params['samples']}")
     compaction = params.get("compaction", "reconstruct")
     igv = None
     if compaction == "reconstruct":
@@ -151,6 +138,17 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
             raise ValueError('compaction = "reconstruct" needs burial\'s intergranular volume')
         # Never below the cement (burial's IGV holds its cement).
         igv = np.maximum(np.asarray(intergranular_volume, dtype=float)[idx], cement_fraction[idx])
+    # Every key is checked here, before the pack is settled (minutes) or a lattice allocated.
+    params = check_md_table(params, cemented=bool(np.any(cement_fraction[idx] > 0)),
+                            intergranular_volume=None if igv is None else float(igv.min()))
+    r_max = grain_size / 2.0 * 1e-3
+    g_mat, c_mat = _materials(grain, cement)
+    work = Path(params["workdir"]) if params["workdir"] else Path(workdir)
+    for parent in (work, *work.parents):
+        if parent.exists() and not parent.is_dir():
+            raise ValueError(f"workdir {str(work)!r} "
+                             + ("is a file" if parent == work else f"lies under the file "
+                                f"{parent}") + ": it must be a folder (made if missing)")
     samples = params["samples"]
     parallel = scheduler is None and jobs > 1 and samples > 1
     width = min(jobs, samples) if parallel else 1
@@ -365,6 +363,139 @@ def trusted_members(vp, vp_error, vs, vs_error, threshold) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         return ((vp_error <= threshold * vp) & (vs_error <= threshold * vs)
                 & np.isfinite(vp_error) & np.isfinite(vs_error))
+
+
+#: Most cement-lattice cells of one MD member (at its finest resolution; :func:`lattice_cells`):
+#: about 3.5 GB and 17 minutes of one core per member (:data:`LATTICE_BYTES_PER_CELL`,
+#: :data:`LATTICE_SECONDS_PER_CELL`), Omega 17.7 on the default box of 4 x 4 x 12 diameters
+#: (Omega 6, the default resolution, is 3.9e5 cells). A larger lattice is refused before any
+#: work, with its estimate; ``resolution = 40`` (1.1e8 cells, about 40 GB) ran past 400 s and
+#: 0.85 GB before anything refused it.
+MAX_LATTICE_CELLS = 1.0e7
+#: Peak memory of one member per lattice cell, bytes: the lattice, the linearised system and
+#: the sparse LU factors of the static TI solve, measured (``ru_maxrss`` above the loaded pack,
+#: one process per resolution) on a 3 x 3 x 8 pack of 96 grains compacted to 20 MPa with 8 %
+#: contact cement: 195 MB at Omega 9 (5.0e5 cells, 390 bytes per cell) and 358 MB at Omega 12
+#: (1.1e6 cells, 313 bytes per cell); 350 is their mean. At Omega 6 (1.5e5 cells) the same
+#: measure gave 346 MB, more than at Omega 9, unexplained (a cost that does not scale with the
+#: cells): an estimate to within a factor of a few, meant for lattices far above these.
+LATTICE_BYTES_PER_CELL = 350.0
+#: Time of one member per lattice cell, s (one core of the shared 2-core test machine, the same
+#: runs: 47 s and 108 s, 9.4e-5 and 9.5e-5 s per cell).
+LATTICE_SECONDS_PER_CELL = 1.0e-4
+
+
+def lattice_cells(size, resolution, radius_spread) -> float:
+    """Cells of the cement lattice of a pack of ``size`` largest diameters at ``resolution``
+    cells per mean radius (:func:`md.cement.cement_lattice`: the cell width is the mean radius
+    over :math:`\\Omega`; the mean radius of radii uniform in :math:`[(1-s)R, R]` is
+    :math:`(1 - s/2)R`): :math:`l_x l_y l_z / w^3 = s_x s_y s_z\\,(2\\Omega/(1 - s/2))^3`."""
+    return float(np.prod(size)) * (2.0 * resolution / (1.0 - radius_spread / 2.0)) ** 3
+
+
+def check_md_table(params, *, cemented=True, intergranular_volume=None) -> dict:
+    """Check every key of a ``[models.md]`` table before anything runs, and fill in the
+    default coarser resolutions (:func:`resolve_checks`).
+
+    Parameters
+    ----------
+    params : dict
+        The table, defaults filled in (:data:`rockcem.scene.SCHEMA`).
+    cemented : bool, keyword-only
+        Whether a member has cement (the cement lattice is built).
+    intergranular_volume : float, optional, keyword-only
+        The smallest intergranular volume the pack is compacted to (reconstruction), for the
+        height of the sample; None: Hertzian compaction (porosity near 0.37).
+
+    Returns
+    -------
+    dict
+        ``params`` with ``resolution_check`` and ``resolution_check2`` resolved.
+
+    Raises
+    ------
+    ValueError
+        Naming the key and its valid range: ``seed`` not an integer >= 0; ``samples`` outside
+        [1, 50]; ``radius_spread`` outside [0, 1); ``resolution`` not > 1, or a lattice of
+        more than :data:`MAX_LATTICE_CELLS` cells (with the memory and time it would take);
+        ``slab`` not > 0, or too thick for 4 slabs in the compacted sample; ``size`` (md's
+        :func:`md.deposit.check_size`, and a width in y that is not a whole multiple of that in
+        x where there is cement); ``interface``, ``measure``, ``anisotropy``, ``compaction``,
+        ``cement_history`` or ``schemes`` not one of their names; ``trust_threshold`` outside
+        (0, 1); ``fall_stiffness_factor`` outside (0, 1].
+    """
+    from md.along_depth import CEMENT_HISTORIES, COMPACTIONS, MEASURES, SCHEMES
+    from md.deposit import check_size
+    from md.interface import INTERFACES
+
+    seed = params["seed"]
+    if not (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
+        raise ValueError(f"seed must be an integer >= 0 (numpy's random seeds); got {seed!r}")
+    if not 1 <= params["samples"] <= 50:
+        raise ValueError(f"samples must lie in [1, 50]; got {params['samples']}")
+    spread = params["radius_spread"]
+    if not 0 <= spread < 1:
+        raise ValueError(f"radius_spread must lie in [0, 1); got {spread}")
+    for key, names in (("interface", INTERFACES), ("measure", MEASURES),
+                       ("compaction", COMPACTIONS), ("cement_history", CEMENT_HISTORIES),
+                       ("anisotropy", ("ti", "isotropic"))):
+        value = params.get(key)
+        if key in params and value not in names:
+            raise ValueError(f"{key} must be one of {', '.join(names)}; got {value!r}")
+    if params.get("anisotropy", "ti") == "ti" and params["measure"] != "static":
+        raise ValueError(f"measure = {params['measure']!r} needs anisotropy = 'isotropic' (the "
+                         "pulse test gives the vertical velocities only; 'ti' needs 'static')")
+    schemes = list(params["schemes"])
+    if not schemes or len(set(schemes)) != len(schemes) or any(s not in SCHEMES
+                                                               for s in schemes):
+        raise ValueError(f"schemes must be distinct names from {', '.join(SCHEMES)}; got "
+                         f"{schemes}")
+    threshold = params.get("trust_threshold", TRUST_THRESHOLD)
+    if not 0 < threshold < 1:
+        raise ValueError(f"trust_threshold must lie in (0, 1); got {threshold}")
+    if not 0 < params["fall_stiffness_factor"] <= 1:
+        raise ValueError(f"fall_stiffness_factor must lie in (0, 1]; got "
+                         f"{params['fall_stiffness_factor']}")
+    if not params["resolution"] > 1:
+        raise ValueError(f"resolution must be > 1; got {params['resolution']}")
+    size = check_size(params["size"], (1.0 - spread, 1.0), name="size")
+    slab = params["slab"]
+    if not slab > 0:
+        raise ValueError(f"slab must be > 0 grain diameters; got {slab}")
+    # The settled pack fills size[2] at a porosity of 0.4 (md.deposit.grain_count); compacted to
+    # an intergranular volume v its height is size[2] (1 - 0.4) / (1 - v); Hertzian compaction
+    # stops near 0.37. The static solve and the pulse test need 4 slabs (md.static).
+    v = 0.37 if intergranular_volume is None else float(intergranular_volume)
+    height = size[2] * 0.6 / (1.0 - v)
+    if height / slab < 4:
+        raise ValueError(f"slab = {slab:g} grain diameters is too thick: the compacted sample, "
+                         f"about {height:.3g} diameters tall (size[2] = {size[2]:g} at an "
+                         f"intergranular volume of {v:.3g}), holds {int(height // slab)} "
+                         f"slab(s); the moduli need at least 4 (8 or more advised): give slab "
+                         f"<= {height / 4:.3g} or a taller size")
+    if cemented:
+        ratio = size[1] / size[0]
+        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+            raise ValueError(f"size {list(size)}: the cement lattice needs the box's width in y "
+                             f"a whole multiple of its width in x (size[1] / size[0] = "
+                             f"{ratio:.4g}); give size[1] = size[0] (or 2, 3, ... times it)")
+    cells = lattice_cells(size, params["resolution"], spread)
+    if cells > MAX_LATTICE_CELLS:
+        most = (MAX_LATTICE_CELLS / lattice_cells(size, 1.0, spread)) ** (1.0 / 3.0)
+        raise ValueError(
+            f"resolution = {params['resolution']:g} on a box of {list(size)} diameters is a "
+            f"cement lattice of about {cells:.3g} cells per member, above "
+            f"rockcem._md_backend.MAX_LATTICE_CELLS = {MAX_LATTICE_CELLS:.3g}: about "
+            f"{cells * LATTICE_BYTES_PER_CELL / 1e9:.3g} GB and "
+            f"{cells * LATTICE_SECONDS_PER_CELL / 3600:.3g} h per member on one core; give "
+            f"resolution <= {math.floor(most * 10) / 10:g} or a smaller size")
+    out = resolve_checks(params)
+    for key, lo, hi in (("resolution_check", 1.0, out["resolution"]),
+                        ("resolution_check2", 1.0, out["resolution_check"])):
+        value = out[key]
+        if value != 0 and not (hi and lo <= value < hi):
+            raise ValueError(f"{key} must be 0 or lie in [1, {hi:g}); got {value}")
+    return out
 
 
 def resolve_checks(params) -> dict:

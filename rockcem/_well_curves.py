@@ -143,6 +143,12 @@ def _choose(source, curves, override):
                 raise ValueError(f"{source}: curve {wanted} appears {len(hits)} times "
                                  f"({', '.join(names[i] for i in hits)}); name one of them")
             i = hits[0]
+            other = _sonic_of_other_wave(var, _base(names[i]))
+            if other:
+                raise ValueError(f"{source}: curve {names[i]!r} for {var}: {_base(names[i])} is "
+                                 f"a {other} mnemonic ({', '.join(ALIASES[_OTHER_WAVE[var]])}"
+                                 f"); name a {'shear' if var == 'vs' else 'compressional'} "
+                                 f"sonic for {var}")
             unit = curves[i][1]
             hit = _unit_kind(var, unit)
             if hit is None:
@@ -173,7 +179,34 @@ def _choose(source, curves, override):
         if passed:
             notes.append({"variable": var, "status": "passed over" if var in chosen else
                           "left out", "note": "; ".join(passed)})
+    # One curve is one variable: --curve vs=DTS with DTS also vp's is a slip, never two logs.
+    users = {}
+    for var, entry in chosen.items():
+        users.setdefault(entry[0], []).append(var)
+    for i, shared in users.items():
+        if len(shared) > 1:
+            named = [v for v in shared if v in override]
+            raise ValueError(f"{source}: curve {names[i]} would be read as both "
+                             f"{' and '.join(shared)}" + (
+                                 f" ({', '.join(f'--curve {v}={names[i]}' for v in named)} "
+                                 f"names it; the other chose it by its mnemonic)"
+                                 if len(named) < len(shared) else "") +
+                             f"; name another curve for one of them, or leave one out "
+                             f"(--curve {shared[-1]}=none)")
     return chosen, notes
+
+
+#: The other wave of a sonic variable (whose mnemonics :func:`_choose` refuses for it).
+_OTHER_WAVE = {"vp": "vs", "vs": "vp"}
+
+
+def _sonic_of_other_wave(var, name) -> str:
+    """``"compressional sonic"`` when ``name`` is one of vp's mnemonics and ``var`` is vs (and
+    ``"shear sonic"`` the other way round), else ``""``: the curve's own name says it is the
+    other wave's log."""
+    if var not in _OTHER_WAVE or name not in ALIASES[_OTHER_WAVE[var]]:
+        return ""
+    return "compressional sonic" if var == "vs" else "shear sonic"
 
 
 # ----------------------------------------------------------------------------- checks

@@ -258,9 +258,11 @@ class _Csv:
         import pandas as pd
 
         self.path, self.source = path, path.name
-        self.data_lines = _csv_rows(path, self.source)
+        self.encoding = _csv_encoding(path)
+        self.data_lines = _csv_rows(path, self.source, self.encoding)
         try:
-            self.table = pd.read_csv(path, comment="#", skipinitialspace=True, index_col=False)
+            self.table = pd.read_csv(path, comment="#", skipinitialspace=True, index_col=False,
+                                     encoding=self.encoding)
         except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
             raise ValueError(f"{self.source} is not a readable CSV file: "
                              f"{str(exc).strip()}") from None
@@ -282,22 +284,36 @@ class _Csv:
         return [self.data_lines[int(r)] for r in rows]
 
     def describe(self):
-        return "CSV"
+        return "CSV" if self.encoding == "utf-8-sig" else f"CSV, {self.encoding}"
 
 
-def _csv_rows(path, source):
+def _csv_encoding(path):
+    """``"utf-8-sig"`` (UTF-8, a byte-order mark dropped) for a CSV file that is UTF-8, else
+    ``"latin-1"`` (every byte a character: a header ``DT (µs/ft)`` written by a Windows
+    program is read, not refused; lasio reads a LAS file's bytes in the same spirit)."""
+    with open(path, "rb") as fh:
+        data = fh.read()
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return "latin-1"
+    return "utf-8-sig"
+
+
+def _csv_rows(path, source, encoding="utf-8-sig"):
     """The line numbers of the data lines of a CSV log, each checked to have as many fields as
     its header (pandas would take a first extra field for a row label, or fill a short line
     with NaN)."""
     import csv
 
-    try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            lines = [(i, row) for i, row in enumerate(csv.reader(
-                line.partition("#")[0] for line in fh), 1)
-                if any(f.strip() for f in row) or len(row) > 1]
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{source} is not a readable CSV file: {str(exc).strip()}") from None
+    with open(path, newline="", encoding=encoding) as fh:
+        reader = csv.reader(line.partition("#")[0] for line in fh)
+        try:
+            lines = [(i, row) for i, row in enumerate(reader, 1)
+                     if any(f.strip() for f in row) or len(row) > 1]
+        except csv.Error as exc:        # a field over csv.field_size_limit() (128 kB), ...
+            raise ValueError(f"{source}: line {reader.line_num} is not a line of a CSV well "
+                             f"log: {exc}") from None
     if not lines:
         raise ValueError(f"{source}: empty file")
     width = len(lines[0][1])

@@ -6,11 +6,12 @@ Exit codes: 0 success, 2 bad input (one line on stderr, no traceback).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
 from ._scheduler import check_scheduler
-from ._cli_files import output_file
+from ._cli_files import SCENE_FILE_ATTR, output_file, stage_folder, unasked_output
 
 __all__ = ["main"]
 
@@ -102,7 +103,7 @@ def _md_depth_table(ds, members) -> list[str]:
     return lines
 
 
-def _run_md(raw, args) -> int:
+def _run_md(raw, args, scene_file) -> int:
     """An MD scene (a TOML with an [md] table): packs, cement, pulse tests (numba's md)."""
     from md.experiment import md_scene_from_dict, run_md_scene
 
@@ -112,10 +113,14 @@ def _run_md(raw, args) -> int:
     if args.max_members is not None:
         raise ValueError("--max-members bounds the sweep of a scene; an MD scene has no sweep")
     out = output_file(args.output, scene["output"])
+    if args.output is None:
+        unasked_output(out, scene_file)
     # Stage files beside the output (<stem>_work), unless the scene names a folder.
     work = scene["md"]["workdir"] or Path(out).with_name(Path(out).stem + "_work")
+    stage_folder(work, out, what="md.workdir" if scene["md"]["workdir"] else "the stage folder")
     ds = run_md_scene(scene, workdir=work, jobs=args.jobs, scheduler=args.scheduler,
                       progress=not args.quiet)
+    ds.attrs[SCENE_FILE_ATTR] = str(Path(scene_file).resolve())
     path = write_dataset(ds, out)
     if not args.quiet:
         print(_md_summary(ds))
@@ -177,13 +182,24 @@ def _run(args) -> int:
 
     check_scheduler(args.scheduler, name="--scheduler")
     raw, text = read_scene_toml(args.scene)
+    scene_file = scene_path(args.scene)
     if "md" in raw:
-        return _run_md(raw, args)
-    scene = scene_from_dict(raw, text=text, base_dir=scene_path(args.scene).parent)
+        return _run_md(raw, args, scene_file)
+    scene = scene_from_dict(raw, text=text, base_dir=scene_file.parent)
     out = output_file(args.output, scene.output)
+    if args.output is None:
+        unasked_output(out, scene_file)
+    if "md" in scene.models:
+        # The stage folder follows the file written (-o), as the docs say: <output
+        # stem>_md_work, unless models.md.workdir names one.
+        scene = dataclasses.replace(scene, output=str(out))
+        work = scene.sections["models.md"]["workdir"]
+        stage_folder(work or Path(out).with_name(Path(out).stem + "_md_work"), out,
+                     what="models.md.workdir" if work else "the stage folder")
     limit = {} if args.max_members is None else {"max_members": args.max_members}
     ds = run_scene(scene, scheduler=args.scheduler, jobs=args.jobs, progress=not args.quiet,
                    **limit)
+    ds.attrs[SCENE_FILE_ATTR] = str(scene_file.resolve())
     path = write_dataset(ds, out)
     if not args.quiet:
         print(_summary(ds))
@@ -194,10 +210,14 @@ def _run(args) -> int:
 def _demo(args) -> int:
     from .scene import load_scene, run_scene, write_dataset
 
+    from .scene import scene_path
+
     scene = load_scene("carcione2022_sandstone")
     output_file(None, f"{scene.name}.nc")
+    unasked_output(f"{scene.name}.nc", scene_path(scene.name))
     output_file(None, f"{scene.name}.png", figure=True)
     ds = run_scene(scene, progress=not args.quiet)
+    ds.attrs[SCENE_FILE_ATTR] = str(scene_path(scene.name).resolve())
     nc = write_dataset(ds, f"{scene.name}.nc")
     png = None
     try:
@@ -234,7 +254,9 @@ def _plot(args) -> int:
     if args.kind == "md-study":
         ds = _select(ds, args.select or [])
         out = output_file(args.output, _default_figure(path, args), figure=True)
-        print(f"wrote {plots.save_figure(plots.md_study_velocity(ds), out)}")
+        saved = plots.save_figure(plots.md_study_velocity(ds), out)
+        if not args.quiet:
+            print(f"wrote {saved}")
         return 0
     if args.kind in ("vp-porosity", "template") and ds.attrs.get("lithology") != "sandstone":
         drawn = {"vp-porosity": "the contact models", "template": "the patchy-cement template"}
@@ -249,7 +271,8 @@ def _plot(args) -> int:
             "template": plots.rock_physics_template}[args.kind]
     out = output_file(args.output, _default_figure(path, args), figure=True)
     saved = plots.save_figure(draw(ds), out)
-    print(f"wrote {saved}")
+    if not args.quiet:
+        print(f"wrote {saved}")
     return 0
 
 
@@ -315,7 +338,9 @@ def _select(ds, selections):
             shown = ", ".join(f"{v:g}" if isinstance(v, (int, float, np.number)) else str(v)
                               for v in values)
             raise ValueError(f"--select {item}: no such value of {dim} (values: {shown})")
-        chosen.setdefault(dim, []).append(int(match[0]))
+        picked = chosen.setdefault(dim, [])
+        if int(match[0]) not in picked:         # the same value twice is that value once
+            picked.append(int(match[0]))
     # One model stays a model dimension (its colour and line style); a single value of a
     # sweep dimension becomes a scalar coordinate, which the figure names.
     return ds.isel({d: i if len(i) > 1 or d == "model" else i[0] for d, i in chosen.items()})
@@ -422,6 +447,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
                         "path.gradient=30; repeat for more values or dimensions)")
     p.add_argument("-o", "--output", help="figure file (.png, .pdf, .svg)")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing (with --well: the read report's warnings only)")
     add_well_options(p, required=False)
     p.set_defaults(func=_plot)
     add_commands(sub)

@@ -81,6 +81,11 @@ def _compare(args) -> int:
         raise ValueError(f"{args.scene} has sweep dimensions {', '.join(sweeps)}; compare one "
                          "member (rockcem plot --select, or a scene without [sweep])")
     table = well_misfit(ds, well, intervals=args.intervals)
+    if args.intervals is not None and "n" in table.columns and not (table["n"] > 0).any():
+        z = well.depth.values
+        raise ValueError(f"--intervals {' '.join(f'{v:g}' for v in args.intervals)}: no sample "
+                         f"of the well lies in them (the log covers {z[0]:g}-{z[-1]:g} m and "
+                         f"the scene {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m)")
     name = well.attrs.get("well") or Path(args.well).name
     print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name} per depth interval "
           "(m): rms and mean (bias) of model/log - 1 for vp, vs and density, of model - log "
@@ -168,7 +173,9 @@ def plot_with_well(ds, args, path):
     well = _well(args)
     fig = plots.well_overlay(ds, well) if args.kind == "depth" else \
         plots.well_template(ds, well)
-    print(f"wrote {plots.save_figure(fig, out)}")
+    saved = plots.save_figure(fig, out)
+    if not args.quiet:
+        print(f"wrote {saved}")
     return 0
 
 

@@ -41,7 +41,7 @@ import numpy as np
 
 from ._atomic import check_scene_name
 from ._data import data_path
-from ._toml import toml_value
+from ._toml import toml_text, toml_value
 from .variables import sweep_dimension
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
@@ -176,10 +176,13 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "size": ([4.0, 4.0, 12.0], "numbers", "grain diameters", "box of the MD pack"),
         "radius_spread": (0.1, "number", "1",
                           "grain radii uniform in [(1 - spread) D/2, D/2], D = grain_size"),
-        "seed": (0, "integer", "", "random seed of settling and pore-body cement"),
+        "seed": (0, "integer", "", "random seed of settling and pore-body cement (>= 0)"),
         "samples": (1, "integer", "", "independent packs (seeds seed, seed + 1, ...): the "
                     "velocities are their mean, with the standard error as sample-size error"),
-        "resolution": (6.0, "number", "cells per radius", "cement lattice resolution Omega"),
+        "resolution": (6.0, "number", "cells per radius",
+                       "cement lattice resolution Omega; a lattice of more than 10^7 cells "
+                       "per member (rockcem._md_backend.MAX_LATTICE_CELLS; Omega 17 on the "
+                       "default size) is refused before any work, with its memory and time"),
         "resolution_check": (None, "number", "cells per radius",
                              "coarser Omega for the resolution error (default resolution / "
                              "1.5, none below 1; 0 = none)"),
@@ -209,7 +212,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),
         "fall_stiffness_factor": (1e-3, "number", "", "contact softening while grains fall"),
         "workdir": (None, "string", "", "folder of the MD stage files (default: "
-                    "<output stem>_md_work)"),
+                    "<output stem>_md_work beside the file written: rockcem run's -o, else "
+                    "output); never a file or the output itself"),
     },
 }
 #: Model sections that take a calibration file.
@@ -282,22 +286,36 @@ class Scene:
         return tomllib.loads(self.text)
 
 
+def _is_number(value) -> bool:
+    """A real number of Python or numpy (``np.float32(0.05)``, ``np.int64(3)``), not a bool."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and \
+        not isinstance(value, (bool, np.bool_))
+
+
+def _float(value) -> float:
+    """A number as a Python float; a numpy float as the decimal it prints as
+    (``np.float32(0.05)`` is 0.05, not its binary value 0.05000000074505806)."""
+    return float(str(value)) if isinstance(value, np.floating) else float(value)
+
+
 def _check_value(where, key, value, kind):
     """Check one value against its schema type; numbers come back as float."""
     if value is None:
         return None
     if kind == "number":
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-        value = float(value) if ok else value
+        ok = _is_number(value)
+        value = _float(value) if ok else value
         if ok and not np.isfinite(value):
             raise ValueError(f"scene key {where}.{key} must be finite; got {value!r}")
     elif kind == "integer":
-        ok = isinstance(value, int) and not isinstance(value, bool)
+        ok = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+        value = int(value) if ok else value
     elif kind == "string":
         ok = isinstance(value, str)
     elif kind == "numbers":
-        ok = isinstance(value, list) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        ok = isinstance(value, list) and all(_is_number(v) for v in value)
+        value = [_float(v) if isinstance(v, np.floating) else int(v)
+                 if isinstance(v, np.integer) else v for v in value] if ok else value
     else:
         ok = isinstance(value, list) and all(isinstance(v, str) for v in value)
     if not ok:
@@ -626,7 +644,7 @@ def scene_path(source) -> Path:
 def read_scene_toml(source) -> tuple[dict, str]:
     """The parsed TOML and text of a scene file path or shipped scene name (not validated)."""
     path = scene_path(source)
-    text = path.read_text()
+    text = toml_text(path, f"scene file {path.name}")
     try:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

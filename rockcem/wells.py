@@ -46,6 +46,14 @@ blanked, and why.
 
 Shipped wells (``datasets/wells/*.las``) are read by name from any folder:
 ``read_well("synthetic_well")`` (:func:`shipped_wells`).
+
+A LAS file of thousands of curves is slow to read, by lasio (0.32): each header item is checked
+against every earlier one for a repeated mnemonic, each curve's data is looked up by a scan of
+the curves and formatted for a debug message, so the time grows with the square of the curves
+(37 s for the ``~Curve`` section of 5000 curves alone, over 120 s for the file of 200 rows on
+the 2-core test machine, where pandas reads its data in 1.3 s); this module parses the header
+twice (the curves, then the data), no lasio setting avoids the rest. Such a file is read far
+faster written as CSV (``benchmarks/results/hostile_inputs_30.md``, ``w_las_5000``).
 """
 
 from __future__ import annotations
@@ -233,6 +241,8 @@ def well_path(source) -> Path:
     path = Path(source)
     if path.is_file():
         return path
+    if path.is_dir():
+        raise ValueError(f"well file {str(source)!r} is a folder, not a file")
     parent = path.parent.parts
     if not parent or parent[-2:] == ("datasets", "wells"):
         shipped = shipped_wells()
@@ -356,6 +366,9 @@ def format_read_report(report) -> str:
     lines = [first]
     if depth.get("rows_without_depth"):
         lines[0] += f"; {depth['rows_without_depth']} rows without a depth left out"
+    if depth.get("rows_repeating_a_depth"):
+        lines[0] += (f"; {depth['rows_repeating_a_depth']} rows repeating an earlier depth "
+                     f"left out (the first on line {depth.get('first_repeat_line')})")
     if report.get("depth_offset_m"):
         lines[0] += f"; depth offset {report['depth_offset_m']:g} m"
     for e in report["curves"]:

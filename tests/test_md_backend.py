@@ -135,6 +135,34 @@ def test_resumed_run_equals_the_first(result, monkeypatch):
     xr.testing.assert_identical(again.drop_attrs(), ds.drop_attrs())
 
 
+def test_damaged_member_stage_files_are_redone(result, tmp_path):
+    """Stage files cut short, emptied or missing a variable are redone, each with a warning
+    naming it, and give the first run's Dataset again (the solve is deterministic; the wall
+    time of the redone members is their own)."""
+    import shutil
+
+    import xarray as xr
+    from md.along_depth import StageFileWarning
+
+    ds, path = result
+    shutil.copytree(path / "md", tmp_path / "md")
+    members = sorted((tmp_path / "md").rglob("members/*.nc"))
+    assert len(members) == 3
+    members[0].write_bytes(b"")
+    members[1].write_bytes(members[1].read_bytes()[:300])
+    with xr.open_dataset(members[2]) as one:
+        kept = one.drop_vars("c13").load()
+    kept.to_netcdf(members[2])
+    with pytest.warns(StageFileWarning) as record:
+        again = run_scene(tiny(tmp_path))
+    named = sorted(str(m) for m in members if any(str(m) in str(w.message) for w in record))
+    assert named == sorted(map(str, members))
+    xr.testing.assert_identical(again.drop_attrs().drop_vars("md_wall_time"),
+                                ds.drop_attrs().drop_vars("md_wall_time"))
+    with xr.open_dataset(members[2]) as redone:
+        assert "c13" in redone
+
+
 def test_bad_md_tables(tmp_path):
     with pytest.raises(ValueError, match="depths must lie within the profile"):
         run_scene(tiny(tmp_path, depths=[5000.0]))
