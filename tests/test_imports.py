@@ -75,3 +75,18 @@ def test_bad_engine_names_the_argument(expect_value_error):
 
     expect_value_error(lambda: self_consistent([40.0, 2.0], [30.0, 0.0], [0.7, 0.3],
                                                engine="fast"), "engine")
+
+
+def test_subpackages_are_attributes_imported_on_first_use():
+    """``import rockcem; rockcem.pore_fluids`` works, and only when asked does it import the
+    sub-package (PEP 562 module __getattr__): import rockcem stays as light as the models."""
+    code = ("import sys, rockcem; "
+            "before = [m for m in ('rockcem.pore_fluids', 'rockcem.scene', 'rockcem.plots') "
+            "if m in sys.modules]; "
+            "k = rockcem.pore_fluids.brine(20.0, 10.0, 0.05).K; "
+            "print(before, 'rockcem.pore_fluids' in sys.modules, "
+            "rockcem.scene.run_scene.__module__, 'pore_fluids' in dir(rockcem)); "
+            "rockcem.no_such_thing")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.stdout.split() == ["[]", "True", "rockcem.scene", "True"]
+    assert "AttributeError: module 'rockcem' has no attribute 'no_such_thing'" in out.stderr
