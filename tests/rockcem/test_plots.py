@@ -633,23 +633,54 @@ def test_template_lines_reach_the_scenes_cement():
     plt.close(fig)
 
 
-def test_depth_trends_shade_the_flagged_intervals():
-    """Issue 22: the depths the validity warnings name are shaded on every panel."""
-    ds = scene().assign_attrs(validity_warnings=(
-        "Model 1 (Krief frame) at 0–1400 m: porosity above 0.324\n"
-        "[gradient = 20] only some members at 100–200 m: not shaded\n"
+def test_depth_trends_mark_the_flagged_intervals_per_model_and_panel():
+    """Issue 30: a line about a model marks that model's curve on the panels that draw it (a
+    band along the curve, in its colour), not every panel; a line about the rock's state
+    shades every panel; a line for some sweep members marks those members' curves only."""
+    from matplotlib.colors import to_rgb
+
+    ds = scene(gradients=[20.0, 30.0]).assign_attrs(validity_warnings=(
+        "Models 1 and 3 (Krief frame) at 0–1400 m: porosity above 0.324\n"
+        "[gradient = 20] Model 4 (patchy cement) at 2000–2400 m: bonding pre-stress\n"
         "quartz cement at 3000–4000 m: overfill"))
-    fig = plots.depth_trends(ds)
-    for ax in fig.axes[:-1] if len(fig.axes) > 3 else fig.axes:
+    fig = plots.depth_trends(ds, ["porosity", "vp", "vs"])
+    panels = fig.axes[:3]
+    for ax in panels:                           # the rock's line: every panel, grey
         spans = [p for p in ax.patches if p.get_gid() == "flagged"]
-        extents = sorted(tuple(sorted((p.get_y(), p.get_y() + p.get_height())))
-                         for p in spans)
-        assert extents == [(0.0, 1400.0), (3000.0, 4000.0)]
+        assert sorted(tuple(sorted((p.get_y(), p.get_y() + p.get_height()))) for p in spans) \
+            == [(3000.0, 4000.0)]
+    assert not [c for c in panels[0].collections if str(c.get_gid()).startswith("flagged:")]
+    for ax in panels[1:]:
+        bands = [c for c in ax.collections if str(c.get_gid()).startswith("flagged:")]
+        # Models 1 and 3 for both gradients, Model 4 for gradient 20 only
+        assert sorted(c.get_gid() for c in bands) == ["flagged:generalized_gassmann"] * 2 \
+            + ["flagged:hs_gassmann"] * 2 + ["flagged:patchy_cement"]
+        for band in bands:
+            (segment,) = band.get_segments()
+            top, base = (0.0, 1400.0) if "gassmann" in band.get_gid() else (2000.0, 2400.0)
+            assert segment[:, 1].min() == top and segment[:, 1].max() == base   # 200 m step
+        model1 = next(c for c in bands if c.get_gid() == "flagged:hs_gassmann")
+        red, _, blue = to_rgb(model1.get_colors()[0])
+        assert blue > red + 0.2                         # Model 1's blue, not grey
     labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "model flagged (validity_warnings):\nband along its curve" in labels
     assert "flagged (validity_warnings)" in labels
     plt.close(fig)
     fig = plots.depth_trends(scene())               # no warnings: nothing shaded
     assert not [p for ax in fig.axes for p in ax.patches if p.get_gid() == "flagged"]
+    assert not [c for ax in fig.axes for c in ax.collections
+                if str(c.get_gid()).startswith("flagged")]
+    plt.close(fig)
+
+
+def test_depth_trends_draw_the_first_sweep_member_on_top():
+    """Issue 30: where members coincide (outside a reservoir), the first (darkest: the brine
+    baseline of a hydrocarbon sweep) is on top, not the last and lightest."""
+    fig = plots.depth_trends(scene(gradients=[20.0, 30.0, 40.0]), ["vp"])
+    lines = [ln for ln in fig.axes[0].get_lines() if "hs_gassmann" not in ln.get_label()
+             and ln.get_label().startswith(plots.MODEL_LABELS["hs_gassmann"])]
+    assert len(lines) == 3
+    assert lines[0].get_zorder() > lines[1].get_zorder() > lines[2].get_zorder()
     plt.close(fig)
 
 
