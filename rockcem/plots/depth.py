@@ -7,7 +7,7 @@ import numpy as np
 
 from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_marker,
                      _model_style,
-                     _shade, _members, _sweep_legend, _sweep_text, _check_dataset, _require,
+                     _shade, _members, _member_text, _sweep_legend, _check_dataset, _require,
                      _figure)
 
 __all__ = ["depth_trends"]
@@ -140,7 +140,7 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                         continue                    # this variable does not change here
                     drawn.add(tuple(sel.items()))
                     colour = _shade(style["color"], j, len(members)) if sel else style["color"]
-                    text = ", ".join(f"{d} = {_sweep_text(d, ds[d].values[v], ds)}"
+                    text = ", ".join(_member_text(d, ds[d].values[v], ds)
                                      for d, v in sel.items())
                     if model is not None:
                         sel["model"] = i
