@@ -503,10 +503,12 @@ def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):
         if ok[i].any():
             ax.plot(impedance[i], ratio[i], color=_INK, linewidth=1.0,
                     marker="." if ok[i].sum() == 1 else "", gid=f"porosity={p:g}", zorder=3.5)
-            j = np.flatnonzero(ok[i])[np.argmin(phip[ok[i]])]   # the least-cemented end
+            # at the most-cemented end, below the line: the least-cemented end is where the
+            # data of an uncemented or lightly cemented sand lie
+            j = np.flatnonzero(ok[i])[np.argmax(phip[ok[i]])]
             ax.annotate(f"$\\phi$ = {p:g}" if i == leftmost else f"{p:g}",
-                        (impedance[i, j], ratio[i, j]), xytext=(2, 3),
-                        textcoords="offset points", ha="left", va="bottom", fontsize=7,
+                        (impedance[i, j], ratio[i, j]), xytext=(0, -4),
+                        textcoords="offset points", ha="center", va="top", fontsize=7,
                         color=_INK, path_effects=halo, zorder=4)
     if legend:                      # below the panels, where it covers no line or point
         legend.legend(handles=template, loc="outside lower center", ncols=3,
