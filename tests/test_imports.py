@@ -90,3 +90,15 @@ def test_subpackages_are_attributes_imported_on_first_use():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.stdout.split() == ["[]", "True", "rockcem.scene", "True"]
     assert "AttributeError: module 'rockcem' has no attribute 'no_such_thing'" in out.stderr
+
+
+def test_every_public_sub_module_is_an_attribute():
+    """The sub-modules a user reaches for, each by ``rockcem.<name>`` after ``import rockcem``
+    alone (listed here by hand, not read from rockcem._LAZY)."""
+    names = ["anisotropy", "calibrate", "contact_integral", "plots", "pore_fluids", "references",
+             "scene", "variables", "wells", "validity", "models", "granular", "materials"]
+    code = ("import rockcem; "
+            f"print(all(getattr(rockcem, n).__name__ == 'rockcem.' + n for n in {names!r}), "
+            f"set({names!r}) <= set(dir(rockcem)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["True", "True"]
