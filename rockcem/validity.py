@@ -34,8 +34,8 @@ Rules (each returns the depth interval where it applies):
   shear modulus is the isolated fluid's: :math:`\mu_{dry} < (1 - 0.5)\,\mu_{sat}`.
 - Model 4 (patchy cement, eqs. 15–21 and D.1–D.2 of [Carcione2022]_) takes the uncemented
   contacts as a Hertz–Mindlin pack at :math:`p_e + \delta`, with a bonding pre-stress
-  :math:`\delta` (100 MPa in the source, after [GangiCarlson1996]_) that "assumes that at the
-  beginning of the burial process the grains are not floating" (App. D). The patchy-cement
+  :math:`\delta` (100 MPa in the source, after [GangiCarlson1996]_): App. D assumes the grains
+  are not "floating" in the fluid at the beginning of burial. The patchy-cement
   model it modifies ([Avseth2016]_) has the uncemented pack at the effective pressure alone,
   where a loose sand at :math:`p_e \to 0` has no contact stiffness (Hertz–Mindlin,
   [Mavko2009]_ Sect. 5.4); so at the surface the source's sand has the frame of a pack under
