@@ -205,11 +205,12 @@ class _Pipeline:
 
         return patchy_rock(*(self._model(label, f) for f in fluid.patches), fluid.saturation)
 
-    def _model(self, label, fluid):
+    def _model(self, label, fluid, **override):
         from . import models
 
         minerals = self.materials[0]
         knobs = {k: v for k, v in self.sec[f"models.{label}"].items() if k != "calibration"}
+        knobs.update(override)                  # (the validity rules' delta = 0)
         with _section(f"models.{label}"):
             if label == "patchy_cement":
                 s = self.sandstone
@@ -349,7 +350,8 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
                     [per_model[m][k] if m in per_model else np.full(depth.shape, np.nan)
                      for m in labels]))
     attrs = _global_attrs(scene)
-    warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted))
+    warnings = _validity_warnings(scene, pipe, computed_models=bool(wanted),
+                                  results=dict(zip(labels, results)) if wanted else {})
     if "pore_fluid" in pipe.__dict__:
         warnings += pipe.pore_fluid.warnings
         if attrs["fluid"] == "brine":
@@ -371,19 +373,28 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     return ds
 
 
-def _validity_warnings(scene, pipe, *, computed_models):
+def _validity_warnings(scene, pipe, *, computed_models, results):
     """:func:`rockcem.validity.validity_warnings` on what the scene computed (nothing more is
-    computed for them: porosity and the cement flag only where the outputs needed them)."""
+    computed for them: porosity and the cement flag only where the outputs needed them; of the
+    models, only Model 4's dry frame once more, without its bonding pre-stress)."""
     from .validity import validity_warnings
 
     done = pipe.__dict__                     # cached_property values computed so far
     if "porosity" not in done:
         return []
     filled = done["sandstone"].pore_filled if "sandstone" in done else None
+    shear = {}
+    if "self_consistent" in results:
+        shear["self_consistent"] = (results["self_consistent"].G_sat,
+                                    results["self_consistent"].G_dry)
+    if "patchy_cement" in results:
+        fluid = pipe.pore_fluid.patches[0] if pipe.pore_fluid.patches else pipe.pore_fluid.fluid
+        shear["patchy_cement"] = (results["patchy_cement"].G_dry,
+                                  pipe._model("patchy_cement", fluid, delta=0.0).G_dry)
     return validity_warnings(pipe.now(pipe.path.depth), done["porosity"],
                              porosity0=pipe.lith["porosity0"],
                              models=scene.models if computed_models else (),
-                             pore_filled=filled)
+                             pore_filled=filled, shear_moduli=shear)
 
 
 def sweep_members(scene):
@@ -409,7 +420,7 @@ def run(scene, *, scheduler=None, jobs=1, progress=False):
     import xarray as xr
 
     if not scene.sweep:
-        return evaluate(scene, scheduler=scheduler, jobs=jobs, progress=progress)
+        return _warned(evaluate(scene, scheduler=scheduler, jobs=jobs, progress=progress))
     from .variables import sweep_dimension
 
     dims = [sweep_dimension(k) for k in scene.sweep]
@@ -452,7 +463,17 @@ def run(scene, *, scheduler=None, jobs=1, progress=False):
         out.attrs["calibration"] = "varies over the sweep: " + " | ".join(
             sorted({ds.attrs["calibration"] for _, ds in results}))
         out.attrs["calibration_json"] = json.dumps([json.loads(u) for u in used])
-    return out
+    return _warned(out)
+
+
+def _warned(ds):
+    """``ds``, its validity warnings issued once each as a
+    :class:`rockcem.validity.RockcemValidityWarning` (after a sweep's merge: once per run)."""
+    from .validity import issue_warnings
+
+    issue_warnings(ds.attrs.get("validity_warnings", "").split("\n"),
+                   prefix=f"scene {ds.attrs.get('scene_name', '?')}: ")
+    return ds
 
 
 def _merge_warnings(out, results, dims, values):

@@ -75,3 +75,30 @@ def test_bad_engine_names_the_argument(expect_value_error):
 
     expect_value_error(lambda: self_consistent([40.0, 2.0], [30.0, 0.0], [0.7, 0.3],
                                                engine="fast"), "engine")
+
+
+def test_subpackages_are_attributes_imported_on_first_use():
+    """``import rockcem; rockcem.pore_fluids`` works, and only when asked does it import the
+    sub-package (PEP 562 module __getattr__): import rockcem stays as light as the models."""
+    code = ("import sys, rockcem; "
+            "before = [m for m in ('rockcem.pore_fluids', 'rockcem.scene', 'rockcem.plots') "
+            "if m in sys.modules]; "
+            "k = rockcem.pore_fluids.brine(20.0, 10.0, 0.05).K; "
+            "print(before, 'rockcem.pore_fluids' in sys.modules, "
+            "rockcem.scene.run_scene.__module__, 'pore_fluids' in dir(rockcem)); "
+            "rockcem.no_such_thing")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.stdout.split() == ["[]", "True", "rockcem.scene", "True"]
+    assert "AttributeError: module 'rockcem' has no attribute 'no_such_thing'" in out.stderr
+
+
+def test_every_public_sub_module_is_an_attribute():
+    """The sub-modules a user reaches for, each by ``rockcem.<name>`` after ``import rockcem``
+    alone (listed here by hand, not read from rockcem._LAZY)."""
+    names = ["anisotropy", "calibrate", "contact_integral", "plots", "pore_fluids", "references",
+             "scene", "variables", "wells", "validity", "models", "granular", "materials"]
+    code = ("import rockcem; "
+            f"print(all(getattr(rockcem, n).__name__ == 'rockcem.' + n for n in {names!r}), "
+            f"set({names!r}) <= set(dir(rockcem)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["True", "True"]

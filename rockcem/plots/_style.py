@@ -178,8 +178,24 @@ def _capital(text: str) -> str:
     return text[:1].upper() + text[1:]
 
 
+#: Sweep values of ``fluid.hydrocarbon`` as a reader names them.
+_HYDROCARBONS = {"none": "brine only (no hydrocarbon)", "gas": "gas", "oil": "oil",
+                 "co2": "CO₂", "methane": "methane"}
+
+
 def _sweep_text(dim: str, value, ds) -> str:
-    """Legend text of one sweep value: the value and its unit (``25 °C/km``)."""
+    """Legend text of one sweep value: the value and its unit (``25 °C/km``); a hydrocarbon
+    in words, with its saturation and interval where the Dataset's ``pore_fluid`` says them
+    (``"CO₂ in brine, saturation 0.8 at 2000-2500 m"``)."""
+    if dim == "hydrocarbon":
+        import re
+
+        name = _HYDROCARBONS.get(str(value), str(value))
+        if str(value) == "none":
+            return name
+        where = re.search(rf"\b{re.escape(str(value))} at saturation ([^ ]+) \(([^)]*)\)",
+                          str(ds.attrs.get("pore_fluid", "")))
+        return f"{name} in brine" + (f", saturation {where[1]} at {where[2]}" if where else "")
     value = f"{value:g}" if isinstance(value, (int, float, np.number)) else str(value)
     units = _attrs(dim, ds).get("units")
     return f"{value} {_units_text(units)}" if units not in (None, "", "1") else value
@@ -206,10 +222,16 @@ def _members(ds, arrays, purpose: str, how: str):
     members = []
     for index in np.ndindex(*sizes):
         isel = dict(zip(dims, index))
-        label = ", ".join(f"{d} = {_sweep_text(d, ds[d].values[i], ds)}"
-                          for d, i in isel.items())
+        label = ", ".join(_member_text(d, ds[d].values[i], ds) for d, i in isel.items())
         members.append((isel, label))
     return dims, members
+
+
+def _member_text(dim: str, value, ds) -> str:
+    """One swept value in a title or label: ``"gradient = 30 °C/km"``; a hydrocarbon by
+    :func:`_sweep_text` alone (``"gas in brine, saturation 0.8 at 2000-2500 m"``)."""
+    text = _sweep_text(dim, value, ds)
+    return text if dim == "hydrocarbon" else f"{dim} = {text}"
 
 
 def _held(ds):
@@ -241,7 +263,8 @@ def _sweep_legend(fig, dims, members, ds, held=""):
             return None
         return fig.legend(handles=[], loc="outside lower center", title=held)
     return fig.legend(handles=[Line2D([], [], color=_shade(_INK, j, len(members)), linewidth=2.0,
-                                      label=text.split(" = ", 1)[1] if len(dims) == 1 else text)
+                                      label=text.split(" = ", 1)[-1] if len(dims) == 1
+                                      else text)
                                for j, (_, text) in enumerate(members)],
                       loc="outside lower center", ncols=min(len(members), 6),
                       title=_sweep_title(dims, ds) + " (shade)" + (f"; {held}" if held else ""))

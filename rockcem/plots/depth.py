@@ -7,7 +7,7 @@ import numpy as np
 
 from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_marker,
                      _model_style,
-                     _shade, _members, _sweep_legend, _sweep_text, _check_dataset, _require,
+                     _shade, _members, _member_text, _sweep_legend, _check_dataset, _require,
                      _figure)
 
 __all__ = ["depth_trends"]
@@ -20,13 +20,21 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     model's colour, line style and width (the first model widest and lowest, so that models
     whose curves coincide both stay visible); model-independent ones are drawn in dark grey.
     Every member of a sweep (the other dimensions of the variables, e.g. ``gradient``, and
-    their product when there are several) is drawn, each in its own shade (darkest first),
-    with a second legend giving the swept values and units; past
+    their product when there are several) is drawn, each in its own shade (darkest first, and
+    on top where members coincide: the first, e.g. brine without hydrocarbon, stays visible
+    outside a reservoir), with a second legend giving the swept values and units; past
     :data:`~rockcem.plots.MAX_MEMBERS` members the figure refuses and names the dimension to
     select values of. A variable that is the same at every value of a sweep dimension (the
     porosity of a sweep over a Model 4 parameter) is drawn once, and its panel says "same for
     every <dimension>". A single-valued sweep dimension or scalar coordinate (what
     ``ds.sel(gradient=30)`` leaves) is named with its value below the figure.
+
+    The depths the Dataset's ``validity_warnings`` name are marked where they apply: a line
+    about a model ("Model 2 (self-consistent) at 0–3032 m: …", "Models 1 and 3 …") by a
+    translucent band along that model's curve, in its colour, on the panels that draw it
+    (a collection with ``gid`` ``"flagged:<model>"``); a line about the rock (quartz cement, the pore fluid) by a
+    grey band across every panel (``gid`` ``"flagged"``). A line for some sweep members only
+    (``"[gradient = 20] …"``) marks those members' curves.
 
     With ``temperature_axis`` and a ``temperature`` variable in ``ds``, the right edge of the
     last panel carries a temperature scale read from it (one scale per distinct temperature
@@ -102,6 +110,10 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     dims, members = _members(ds, arrays, "depth_trends", "one shade of each model's colour")
     models = list(ds["model"].values) if "model" in ds.dims else []
     depth = np.asarray(ds["depth"].values, dtype=float)
+    # The MD lines of the warnings are per member: shaded below, each in its colour.
+    flags = _flags("\n".join(line for line in ds.attrs.get("validity_warnings", "").splitlines()
+                             if not line.startswith("MD ")))
+    half = 0.006 * (depth.max() - depth.min())      # a single flagged depth: a thin band
 
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
@@ -128,12 +140,14 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                         continue                    # this variable does not change here
                     drawn.add(tuple(sel.items()))
                     colour = _shade(style["color"], j, len(members)) if sel else style["color"]
-                    text = ", ".join(f"{d} = {_sweep_text(d, ds[d].values[v], ds)}"
+                    text = ", ".join(_member_text(d, ds[d].values[v], ds)
                                      for d, v in sel.items())
                     if model is not None:
                         sel["model"] = i
                     values = da.isel(sel).transpose("depth").values
                     label = f"{name}, {text}" if text else name
+                    # the first member on top where members coincide (darkest; the baseline)
+                    above = 0.005 * (len(members) - 1 - j) / len(members)
                     ok = np.isfinite(values)
                     if ok.sum() < 0.5 * ok.size:    # a model run at a few depths (MD): points
                         points.add(model)
@@ -145,7 +159,11 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
                                              color=colour, marker=_model_marker(model, i),
                                              zorder=style["zorder"] + 1, label=label))
                     else:
-                        ax.plot(values, depth, **{**style, "color": colour}, label=label)
+                        ax.plot(values, depth, **{**style, "color": colour,
+                                                  "zorder": style["zorder"] + above}, label=label)
+                        if model is not None:
+                            _flag_curve(ax, flags, model, _member_key(ds, isel), values, depth,
+                                        half, colour, style)
             ax.set_xlabel(_label(da.name, ds, width=26))
             if len(arrays) > 1:
                 ax.set_title(f"({chr(ord('a') + k)})", loc="left", fontweight="bold")
@@ -159,12 +177,9 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             ax.set_autoscale_on(False)
         for draw in later:
             draw()
-        # The MD lines of the warnings are per member: shaded below, each in its colour.
-        warnings = "\n".join(line for line in ds.attrs.get("validity_warnings", "").splitlines()
-                             if not line.startswith("MD "))
-        flagged = flagged_intervals(warnings)
-        half = 0.006 * (depth.max() - depth.min())      # a single flagged depth: a thin band
-        for top, base in flagged:           # where a model runs outside its source's range
+        flagged = [(top, base) for intervals, which, members in flags if which is None
+                   and members is None for top, base in intervals]
+        for top, base in flagged:           # where the rock's own state is out of range
             if base - top < 2.0 * half:
                 top, base = 0.5 * (top + base) - half, 0.5 * (top + base) + half
             for ax in axes:
@@ -177,6 +192,10 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
 
         shade = [Patch(color="0.55", alpha=0.25, linewidth=0,
                        label="flagged (validity_warnings)")] if flagged else []
+        if any(str(c.get_gid()).startswith("flagged:") for ax in axes for c in ax.collections):
+            shade.append(Line2D([], [], color="0.55", alpha=0.3, linewidth=6.0,
+                                solid_capstyle="butt",
+                                label="model flagged (validity_warnings):\nband along its curve"))
         if any(str(m).startswith("md") for m in points):
             flag = "md_trusted = 0" if "md_trusted" in ds.data_vars else \
                 "md_resolution_asymptotic = 0 or error ≥ value"
@@ -228,6 +247,75 @@ def flagged_intervals(warnings: str) -> list[tuple[float, float]]:
                 top, _, base = part.partition("–")
                 out.append((float(top), float(base) if base else float(top)))
     return out
+
+
+#: Model numbers of the warning lines (Carcione et al. 2022) -> scene labels.
+_MODEL_NUMBERS = {"1": "hs_gassmann", "2": "self_consistent", "3": "generalized_gassmann",
+                  "4": "patchy_cement"}
+
+
+def _flags(warnings: str) -> list[tuple[list, tuple | None, set | None]]:
+    r"""Each ``validity_warnings`` line as ``(intervals, models, members)``: its depth intervals
+    (:func:`flagged_intervals`), the model labels it names (``"Models 1 and 3 (…"``; None for a
+    line about the rock's state) and the sweep members it holds for (``"[gradient = 20; …] …"``;
+    None for all), each member as its ``"dim = value, …"`` text.
+
+    >>> flags = _flags("Models 1 and 3 (Krief frame) at 0–1479 m: x\n"
+    ...                "[gradient = 20] Model 2 (self-consistent) at 0–1190 m: y\n"
+    ...                "quartz cement at 4454 m: z")
+    >>> flags[0]
+    ([(0.0, 1479.0)], ('hs_gassmann', 'generalized_gassmann'), None)
+    >>> flags[1]
+    ([(0.0, 1190.0)], ('self_consistent',), {'gradient = 20'})
+    >>> flags[2]
+    ([(4454.0, 4454.0)], None, None)
+    """
+    import re
+
+    out = []
+    for line in warnings.splitlines():
+        members = None
+        if line.startswith("["):
+            head, _, line = line[1:].partition("] ")
+            members = set(head.split("; "))
+        intervals = flagged_intervals(line)
+        if not intervals:
+            continue
+        named = re.match(r"Models? ([1-4](?:(?:, | and )[1-4])*) \(", line)
+        which = tuple(_MODEL_NUMBERS[n] for n in re.findall(r"[1-4]", named.group(1))) \
+            if named else None
+        out.append((intervals, which, members))
+    return out
+
+
+def _member_key(ds, isel) -> str:
+    """A sweep member as the runner names it in a warning line (``"gradient = 20"``)."""
+    return ", ".join(f"{d} = {ds[d].values[i]:g}" if isinstance(ds[d].values[i], (int, float))
+                     else f"{d} = {ds[d].values[i]}" for d, i in isel.items())
+
+
+def _flag_curve(ax, flags, model, member, values, depth, half, colour, style):
+    """A translucent band along ``model``'s curve over the depths its warning lines name for
+    this member (a single depth widened to ``2 * half``), below the curve."""
+    where = np.zeros(depth.shape, dtype=bool)
+    for intervals, which, members in flags:
+        if which is None or str(model) not in which or (members is not None
+                                                        and member not in members):
+            continue
+        for top, base in intervals:
+            if base - top < 2.0 * half:
+                top, base = 0.5 * (top + base) - half, 0.5 * (top + base) + half
+            where |= (depth >= top) & (depth <= base)
+    where &= np.isfinite(values)
+    if where.any():                     # a collection, not a line: ax.lines are the data's
+        from matplotlib.collections import LineCollection
+
+        edges = np.flatnonzero(np.diff(where.astype(int))) + 1
+        runs = [r for r in np.split(np.arange(depth.size), edges) if where[r[0]]]
+        ax.add_collection(LineCollection(
+            [np.column_stack([values[r], depth[r]]) for r in runs], colors=[colour], alpha=0.3,
+            linewidths=style["linewidth"] + 5.0, capstyle="butt", zorder=style["zorder"] - 0.6,
+            gid=f"flagged:{model}"), autolim=False)
 
 
 def _error_bars(ds, name, sel, ok):

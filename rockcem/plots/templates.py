@@ -29,6 +29,21 @@ def _saturated(dry, grain, fluid, porosity):
     return velocities(K_sat, dry.G, density)
 
 
+def _broken(x, y, saturation):
+    """``x`` and ``y`` along depth with a NaN between two depths whose hydrocarbon saturation
+    differs (a reservoir's top or base), so that the line breaks there instead of joining the
+    brine sand to the reservoir's with a segment that reads as a trend.
+
+    >>> x, y = _broken([0.3, 0.29, 0.28], [3.0, 2.0, 2.1], [0.0, 0.8, 0.8])
+    >>> x.tolist(), y.tolist()
+    ([0.3, nan, 0.29, 0.28], [3.0, nan, 2.0, 2.1])
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    saturation = np.broadcast_to(np.asarray(saturation, dtype=float), x.shape)
+    cuts = np.flatnonzero(saturation[1:] != saturation[:-1]) + 1
+    return np.insert(x, cuts, np.nan), np.insert(y, cuts, np.nan)
+
+
 def _contact_templates(grain, cement, fluid, pressure, coordination_number, critical_porosity):
     """``{key: (label, porosity, Velocities)}`` of the contact-model family, brine-saturated."""
     from ..granular import constant_cement, contact_cement, soft_sand, stiff_sand
@@ -91,7 +106,9 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
         One axes: the data as lines with markers (``gid`` ``"model:<label>"``; each model its
         own colour, line style, width and marker, the first widest and lowest, markers of
         different models at different depths, so coinciding models stay visible; one line
-        along depth per sweep member, in its own shade, with a legend of the swept values),
+        along depth per sweep member, in its own shade, the first on top, with a legend of the
+        swept values; broken where the hydrocarbon saturation changes, at a reservoir's top
+        and base),
         the templates as dark grey lines.
 
     Raises
@@ -149,6 +166,8 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
 
     phi, v = xr.broadcast(phi, v)
     dims, members = _members(ds, [phi, v], "velocity_porosity", "one shade of each model's colour")
+    saturation = ds["hydrocarbon_saturation"] if "hydrocarbon_saturation" in ds.data_vars \
+        else xr.zeros_like(ds["depth"], dtype=float)
     models = list(ds["model"].values) if "model" in v.dims else [None]
     # About 20 markers a line, each model's from another start (distinct when they coincide).
     step = max(len(models), (phi.sizes["depth"] + 1) // 20)
@@ -164,9 +183,14 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
             for j, (isel, text) in enumerate(members):
                 sel = dict(isel, **({"model": i} if model is not None else {}))
                 # Markers of the models fall on different depths (offset starts), so that
-                # models whose points coincide keep their markers visible.
-                ax.plot(phi.isel(sel).values, v.isel(sel).values,
-                        **{**style, "color": _shade(style["color"], j, len(members))},
+                # models whose points coincide keep their markers visible; the first member
+                # (a hydrocarbon sweep's brine) on top where members coincide.
+                x, y = _broken(phi.isel(sel).values, v.isel(sel).values,
+                               saturation.isel({k: n for k, n in sel.items()
+                                                if k in saturation.dims}).values)
+                ax.plot(x, y, **{**style, "color": _shade(style["color"], j, len(members)),
+                                 "zorder": style["zorder"] + 0.005 * (len(members) - 1 - j)
+                                 / len(members)},
                         markersize=4.0 * _model_size(i, len(models)), markeredgewidth=0.4,
                         markeredgecolor="white",
                         markevery=(i * step // len(models), step),
@@ -198,6 +222,8 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
 
 
 # ----------------------------------------------------------------------------- RPT
+#: The template's default iso-cement lines (cement volume fractions); then the data's largest.
+_CEMENT_LINES = (0.0, 0.02, 0.05, 0.1, 0.2)
 _TEMPLATE_DEFAULTS = {"grain": "quartz", "cement": "quartz_cement", "fluid": "water",
                       "critical_porosity": 0.36}
 
@@ -215,7 +241,12 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     vertical one, as in the templates of Ødegaard and Avseth. With ``ds`` the Dataset's points
     are drawn over it, one marker shape and size per model (the first largest and lowest, so
     coinciding models nest), coloured by depth; a swept Dataset gets one panel per sweep
-    member (at most :data:`~rockcem.plots.MAX_MEMBERS`), titled with its swept values.
+    member (at most :data:`~rockcem.plots.MAX_MEMBERS`), titled with its swept values (a
+    hydrocarbon in words: "CO₂ in brine, saturation 0.8 at 2000-2500 m"). The axes span the
+    template and the models run along the whole profile; a point of a model run at a few
+    depths (MD) beyond them is drawn at the edge as a triangle pointing out, with its value
+    (``gid`` ``"beyond:<model>"``), so that one poorly resolved point (Vp/Vs 3) does not
+    squash the template.
 
     Parameters
     ----------
@@ -238,8 +269,8 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         0.10, … up to ``critical_porosity``.
     cement_fraction : array_like, shape (k,), optional
         Cement fractions of the iso-cement lines, in [0, ``critical_porosity``); default 0,
-        0.01, 0.02, 0.04, 0.08, and on in steps of 0.04 up to the largest cement fraction of
-        ``ds`` (so that the deepest, most cemented points lie within the lines).
+        0.02, 0.05, 0.1 and 0.2 as far as the data's largest cement fraction goes, and that
+        (rounded up; so that the deepest, most cemented points lie within the lines).
     coordination_number : float, optional
         Coordination number of the pack; default the scene's (``ds.attrs["parameters_json"]``,
         section ``models.patchy_cement``), else 9.
@@ -309,17 +340,17 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     if not (np.isfinite(float(pressure)) and float(pressure) >= 0.0):
         raise ValueError(f"pressure must be >= 0 MPa; got {pressure!r}")
     if cement_fraction is None:
-        cement_fraction = [0.0, 0.01, 0.02, 0.04, 0.08]
         cmax = ds["cement_fraction"].values if ds is not None and \
             "cement_fraction" in ds.data_vars else []
         cmax = np.asarray(cmax, dtype=float)[np.isfinite(cmax)]
         top = float(cmax.max()) if cmax.size else 0.0
         # A line needs a porosity of the grid beside it: cement + porosity <= phic.
         cap = phic - float(np.min(porosity))
-        while cement_fraction[-1] + 0.04 < min(top, cap):
-            cement_fraction.append(round(cement_fraction[-1] + 0.04, 2))
         last = min(np.ceil(top * 100.0) / 100.0, np.floor(cap * 100.0) / 100.0)
-        if cement_fraction[-1] < last:                 # the data's own, rounded up
+        # Few lines, spaced as the cement's effect (fast at first): the iso-cement lines of a
+        # bonded pack crowd together (delta = 100 MPa: within Vp/Vs 1.55-1.7).
+        cement_fraction = [c for c in _CEMENT_LINES if c <= 0.05 or c < last - 0.02]
+        if cement_fraction[-1] < last - 0.02:          # the data's own, rounded up
             cement_fraction.append(float(last))
     phi = np.atleast_1d(np.asarray(porosity, dtype=float))
     phip = np.atleast_1d(np.asarray(cement_fraction, dtype=float))
@@ -392,7 +423,11 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
                 ax.set_xlabel(_label("acoustic_impedance"))
             ax.margins(x=0.06, y=0.08)
         if ds is not None:
-            _data_points(fig, axes, ds, density, vp, vs, members)
+            extent = np.array([(np.nanmin(a), np.nanmax(a)) for key in grids
+                               for a in grids[key]]).reshape(-1, 2, 2)
+            _data_points(fig, axes, ds, density, vp, vs, members,
+                         template=(extent[:, 0, 0].min(), extent[:, 0, 1].max(),
+                                   extent[:, 1, 0].min(), extent[:, 1, 1].max()))
         if held and len(members) > 1:
             fig.suptitle(held, fontsize=8.0)
     return fig
@@ -468,10 +503,12 @@ def _template_lines(ax, impedance, ratio, phi, phip, ok, *, legend, title):
         if ok[i].any():
             ax.plot(impedance[i], ratio[i], color=_INK, linewidth=1.0,
                     marker="." if ok[i].sum() == 1 else "", gid=f"porosity={p:g}", zorder=3.5)
-            j = np.flatnonzero(ok[i])[np.argmin(phip[ok[i]])]   # the least-cemented end
+            # at the most-cemented end, below the line: the least-cemented end is where the
+            # data of an uncemented or lightly cemented sand lie
+            j = np.flatnonzero(ok[i])[np.argmax(phip[ok[i]])]
             ax.annotate(f"$\\phi$ = {p:g}" if i == leftmost else f"{p:g}",
-                        (impedance[i, j], ratio[i, j]), xytext=(2, 3),
-                        textcoords="offset points", ha="left", va="bottom", fontsize=7,
+                        (impedance[i, j], ratio[i, j]), xytext=(0, -4),
+                        textcoords="offset points", ha="center", va="top", fontsize=7,
                         color=_INK, path_effects=halo, zorder=4)
     if legend:                      # below the panels, where it covers no line or point
         legend.legend(handles=template, loc="outside lower center", ncols=3,
@@ -521,13 +558,15 @@ def _md_errors(ds, density, vp, vs):
     return xr.broadcast(sigma_i, sigma_r, trusted)
 
 
-def _data_points(fig, axes, ds, density, vp, vs, members):
+def _data_points(fig, axes, ds, density, vp, vs, members, template):
     """The Dataset's points on each panel (one sweep member a panel): a marker and size per
     model (the first largest and lowest, so coinciding points nest), colour by depth, one
-    depth colour bar for all panels. MD points carry error bars (:func:`_md_errors`; the lower
-    bar stops at zero), filled where trusted and hollow where not; the bars of untrusted points
-    are dashed and drawn after the axis limits are fixed, so that a bar as large as its value
-    leaves the template's scale alone."""
+    depth colour bar for all panels. The axes span ``template`` (impedance and Vp/Vs ranges,
+    ``(x0, x1, y0, y1)``) and the points of the models run along the profile; MD points carry
+    error bars (:func:`_md_errors`; the lower bar stops at zero), filled where trusted and
+    hollow where not, and an MD point beyond the axes is drawn at the edge
+    (:func:`_beyond`). The bars of untrusted points are dashed and drawn after the axis
+    limits are fixed, so that a bar as large as its value leaves the template's scale alone."""
     import matplotlib.pyplot as plt
     import xarray as xr
     from matplotlib.lines import Line2D
@@ -537,49 +576,69 @@ def _data_points(fig, axes, ds, density, vp, vs, members):
     norm = plt.Normalize(float(ds["depth"].min()), float(ds["depth"].max()))
     cmap = plt.get_cmap("viridis_r")
     errors = _md_errors(ds, density, vp, vs)
+    few_depths = [errors is not None and str(m).startswith("md") for m in models]
     later = []
-    handles = []
-    for ax, (isel, _text) in zip(axes, members):
-        handles = []
+    handles = {}
+    x0, x1, y0, y1 = template
+    for ax, (isel, _text) in zip(axes, members):   # the profiles' models: they set the axes
         for i, model in enumerate(models):
+            if few_depths[i]:
+                continue
             sel = dict(isel, **({"model": i} if model is not None else {}))
             d, p, s = (a.isel(sel).values.ravel() for a in (density, vp, vs))
-            good = s > 0.0
+            good = (s > 0.0) & np.isfinite(d * p / s)
             marker = _model_marker(model, i)
             grow = _model_size(i, len(models))
             label = _model_label(model) if model is not None else "data"
-            if errors is not None and str(model).startswith("md"):
-                sig_i, sig_r, flag = (a.isel(sel).values.ravel()[good] for a in errors)
-                z = depth.isel(sel).values.ravel()[good]
-                later.extend(_md_points(ax, (d * p)[good], p[good] / s[good], sig_i, sig_r,
-                                        flag == 1.0, cmap(norm(z)), marker=marker,
-                                        size=14 * grow, zorder=2 + 0.01 * i, gid=f"model:{model}"))
-                handles.append(Line2D([], [], linestyle="none", marker=marker,
-                                      markersize=4.5 * np.sqrt(grow), markerfacecolor="0.8",
-                                      markeredgecolor="0.25", label=label))
-                continue
             few = good.sum() <= 300                    # edges only where they stay visible
             x, y = (d * p)[good], p[good] / s[good]
+            if x.size:
+                x0, x1, y0, y1 = min(x0, x.min()), max(x1, x.max()), min(y0, y.min()), \
+                    max(y1, y.max())
             z = depth.isel(sel).values.ravel()[good]
             ax.scatter(x, y, c=z, cmap="viridis_r", norm=norm, marker=marker,
-                                s=(14 if few else 6) * grow, linewidths=0.3 if few else 0.0,
-                                edgecolors="0.25", zorder=2 + 0.01 * i, alpha=0.85, label=label,
-                                gid=f"model:{model}" if model is not None else "data")
+                       s=(14 if few else 6) * grow, linewidths=0.3 if few else 0.0,
+                       edgecolors="0.25", zorder=2 + 0.01 * i, alpha=0.85, label=label,
+                       gid=f"model:{model}" if model is not None else "data")
             if not few:                                # every k-th point marked, ~25 a model
                 k = slice(i * (-(-x.size // 25)) // len(models), None, -(-x.size // 25))
                 ax.scatter(x[k], y[k], c=z[k], cmap="viridis_r", norm=norm, marker=marker,
                            s=18 * grow, linewidths=0.4, edgecolors="0.2", zorder=2.2 + 0.01 * i,
                            gid=f"model:{model}" if model is not None else "data")
-            handles.append(Line2D([], [], linestyle="none", marker=marker,
-                                  markersize=4.5 * np.sqrt(grow), markerfacecolor="0.8",
-                                  markeredgecolor="0.25", label=label))
+            handles[i] = Line2D([], [], linestyle="none", marker=marker,
+                                markersize=4.5 * np.sqrt(grow), markerfacecolor="0.8",
+                                markeredgecolor="0.25", label=label)
+    pad_x, pad_y = 0.06 * (x1 - x0), 0.08 * (y1 - y0)
+    limits = (x0 - pad_x, x1 + pad_x), (y0 - pad_y, y1 + pad_y)
     for ax in axes:
-        ax.autoscale_view()
-    for ax in axes:
+        ax.set_xlim(*limits[0])
+        ax.set_ylim(*limits[1])
         ax.set_autoscale_on(False)
+    beyond = 0
+    for ax, (isel, _text) in zip(axes, members):   # the MD points, at a few depths
+        for i, model in enumerate(models):
+            if not few_depths[i]:
+                continue
+            sel = dict(isel, **({"model": i} if model is not None else {}))
+            d, p, s = (a.isel(sel).values.ravel() for a in (density, vp, vs))
+            good = s > 0.0
+            marker = _model_marker(model, i)
+            grow = _model_size(i, len(models))
+            sig_i, sig_r, flag = (a.isel(sel).values.ravel()[good] for a in errors)
+            z = depth.isel(sel).values.ravel()[good]
+            x, y = (d * p)[good], p[good] / s[good]
+            out = _beyond(ax, x, y, cmap(norm(z)), limits, gid=f"beyond:{model}")
+            beyond += int(out.sum())
+            later.extend(_md_points(ax, x[~out], y[~out], sig_i[~out], sig_r[~out],
+                                    flag[~out] == 1.0, cmap(norm(z[~out])), marker=marker,
+                                    size=14 * grow, zorder=2 + 0.01 * i, gid=f"model:{model}"))
+            handles[i] = Line2D([], [], linestyle="none", marker=marker,
+                                markersize=4.5 * np.sqrt(grow), markerfacecolor="0.8",
+                                markeredgecolor="0.25", label=_model_label(model))
     for draw in later:
         draw()
-    if later:
+    handles = [handles[i] for i in sorted(handles)]
+    if any(few_depths):
         flag = "md_trusted = 0" if "md_trusted" in ds.data_vars else \
             "md_resolution_asymptotic = 0 or error ≥ value"
         handles += [Line2D([], [], linestyle="none", marker="o", markerfacecolor="0.6",
@@ -587,11 +646,34 @@ def _data_points(fig, axes, ds, density, vp, vs, members):
                     Line2D([], [], linestyle="none", marker="o", markerfacecolor="white",
                            markeredgecolor="0.25",
                            label=f"MD not trusted (hollow, dashed bars;\n{flag})")]
+        if beyond:
+            handles.append(Line2D([], [], linestyle="none", marker="^", markerfacecolor="white",
+                                  markeredgecolor="0.25",
+                                  label="MD point beyond the axes\n(at the edge, with its value)"))
     fig.legend(handles=handles, loc="outside upper center", ncols=2 if len(axes) == 1 else 4)
     points = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
     bar = fig.colorbar(points, ax=list(axes), pad=0.02, shrink=1.0 if len(axes) == 1 else 0.8)
     bar.set_label(_label("depth"))
     bar.ax.invert_yaxis()                              # depth increases downward
+
+
+def _beyond(ax, x, y, colours, limits, *, gid):
+    """Points outside ``limits`` (``(x0, x1), (y0, y1)``) drawn at the edge they cross as a
+    hollow triangle pointing out, labelled with the coordinate that is off the axes
+    (``"Vp/Vs 3.1"``, ``"AI 18.2"``); returns which points those are."""
+    (a, b), (c, d) = limits
+    out = (x < a) | (x > b) | (y < c) | (y > d)
+    for k in np.flatnonzero(out):
+        px, py = np.clip(x[k], a, b), np.clip(y[k], c, d)
+        marker = "^" if y[k] > d else "v" if y[k] < c else ">" if x[k] > b else "<"
+        text = f"Vp/Vs {y[k]:.2f}" if not c <= y[k] <= d else f"AI {x[k]:.1f}"
+        ax.plot([px], [py], linestyle="none", marker=marker, markersize=6.0,
+                markerfacecolor="white", markeredgecolor=colours[k], markeredgewidth=1.3,
+                clip_on=False, zorder=5, gid=gid)
+        ax.annotate(text, (px, py), xytext=(0, -9 if y[k] > d else 4), textcoords="offset points",
+                    ha="center", va="top" if y[k] > d else "bottom", fontsize=6.5,
+                    color="0.25", zorder=5, annotation_clip=False)
+    return out
 
 
 def _md_points(ax, x, y, sigma_x, sigma_y, trusted, colours, *, marker, size, zorder, gid):

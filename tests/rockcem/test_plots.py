@@ -364,16 +364,16 @@ def test_rock_physics_template_lines_match_patchy_cement_model():
     gids = [ln.get_gid() for ln in ax.get_lines()]
     porosity_lines = [g for g in gids if g.startswith("porosity=")]
     cement_lines = [g for g in gids if g.startswith("cement_fraction=")]
-    assert len(porosity_lines) == 7 and len(cement_lines) == 5
+    assert len(porosity_lines) == 7 and len(cement_lines) == 3   # 0, 0.02, 0.05
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
     x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
-    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, 20.0, WATER, critical_porosity=0.36)
-    assert x[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)   # cement 0.04 is 4th
-    assert y[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
-    # porosity 0.35 with cement 0.02, 0.04, 0.08 exceeds critical porosity: left out
+    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.05, 20.0, WATER, critical_porosity=0.36)
+    assert x[2] == pytest.approx(float(r.density * r.vp), rel=1e-12)   # cement 0.05 is 3rd
+    assert y[2] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    # porosity 0.35 with cement 0.02 and 0.05 exceeds critical porosity: left out
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.35")
-    assert np.isnan(np.asarray(line.get_ydata())[2:]).all()
-    assert np.isfinite(np.asarray(line.get_ydata())[:2]).all()
+    assert np.isnan(np.asarray(line.get_ydata())[1:]).all()
+    assert np.isfinite(np.asarray(line.get_ydata())[:1]).all()
     assert ax.get_xlabel() == "Acoustic impedance ((km/s)·(g/cm³))"
     assert ax.get_ylabel() == "Vp/Vs (–)"
     assert len(ax.texts) == 7                              # one label per iso-porosity line
@@ -392,15 +392,15 @@ def test_rock_physics_template_takes_the_scene_materials():
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
     # the template's pressure: the scene's median effective pressure
     pe = float(np.median(ds.pressure_effective.values))
-    r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.04,
+    r = patchy_cement_model(mineral("quartz_han_guo"), mineral("epoxy_kaolinite"), 0.2, 0.05,
                             pe, WATER, critical_porosity=0.4)
-    assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
-    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    assert np.asarray(line.get_xdata())[2] == pytest.approx(float(r.density * r.vp), rel=1e-12)
+    assert np.asarray(line.get_ydata())[2] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
     ax = plots.rock_physics_template(ds, grain="quartz", cement="quartz_cement",
                                      critical_porosity=0.36).axes[0]
     line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
-    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.04, pe, WATER, critical_porosity=0.36)
-    assert np.asarray(line.get_xdata())[3] == pytest.approx(float(r.density * r.vp), rel=1e-12)
+    r = patchy_cement_model(QUARTZ, CEMENT, 0.2, 0.05, pe, WATER, critical_porosity=0.36)
+    assert np.asarray(line.get_xdata())[2] == pytest.approx(float(r.density * r.vp), rel=1e-12)
 
 
 def test_rock_physics_template_takes_the_scene_model_parameters_per_panel():
@@ -414,20 +414,20 @@ def test_rock_physics_template_takes_the_scene_model_parameters_per_panel():
     assert [ax.get_subplotspec().colspan.start for ax in panels] == [0, 1, 0, 1]   # 2 x 2
     grain, cement = mineral("quartz_han_guo"), mineral("epoxy_kaolinite")
     for ax, thickness in zip(panels, (0.0, 0.01, 0.03, 0.05)):
-        r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+        r = patchy_cement_model(grain, cement, 0.2, 0.05, 20.0, WATER, critical_porosity=0.4,
                                 coordination_number=8.5, scheme=2, thickness=thickness)
         line = next(ln for ln in ax.get_lines() if ln.get_gid() == "porosity=0.2")
-        assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+        assert np.asarray(line.get_ydata())[2] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
     one = plots.rock_physics_template(ds.sel(thickness=0.03))   # a selected member's own
     line = next(ln for ln in one.axes[0].get_lines() if ln.get_gid() == "porosity=0.2")
-    r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+    r = patchy_cement_model(grain, cement, 0.2, 0.05, 20.0, WATER, critical_porosity=0.4,
                             coordination_number=8.5, scheme=2, thickness=0.03)
-    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    assert np.asarray(line.get_ydata())[2] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
     fixed = plots.rock_physics_template(ds, delta=40.0, coordination_number=6.0)
     line = next(ln for ln in fixed.axes[0].get_lines() if ln.get_gid() == "porosity=0.2")
-    r = patchy_cement_model(grain, cement, 0.2, 0.04, 20.0, WATER, critical_porosity=0.4,
+    r = patchy_cement_model(grain, cement, 0.2, 0.05, 20.0, WATER, critical_porosity=0.4,
                             coordination_number=6.0, delta=40.0, scheme=2, thickness=0.0)
-    assert np.asarray(line.get_ydata())[3] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
+    assert np.asarray(line.get_ydata())[2] == pytest.approx(float(r.vp / r.vs), rel=1e-12)
 
 
 def test_rock_physics_template_with_dataset_points_coloured_by_depth():
@@ -619,37 +619,76 @@ def test_public_api():
 
 def test_template_lines_reach_the_scenes_cement():
     """Issue 22: the iso-cement lines went to 0.08 while the sandstone's cement reaches 0.28, so
-    the deepest points fell outside them."""
+    the deepest points fell outside them; issue 30: eleven of them crowded Vp/Vs 1.55-1.7, so
+    now 0, 0.02, 0.05, 0.1, 0.2 as far as the data go, then the data's largest."""
     ds = scene()
     top = float(ds.cement_fraction.max())
     fig = plots.rock_physics_template(ds)
     cements = sorted(float(ln.get_gid().split("=")[1]) for ln in fig.axes[0].get_lines()
                      if str(ln.get_gid()).startswith("cement_fraction="))
-    assert cements[:5] == [0.0, 0.01, 0.02, 0.04, 0.08]
     # up to the data's largest cement (rounded up), as far as the porosity grid (0.05, ...)
     # leaves room below critical porosity: 0.36 - 0.05
-    assert cements[-1] == pytest.approx(min(np.ceil(top * 100) / 100, 0.31))
-    assert top > 0.08 and all(b - a <= 0.04 + 1e-12 for a, b in zip(cements, cements[1:]))
+    assert top == pytest.approx(0.3) and cements == [0.0, 0.02, 0.05, 0.1, 0.2, 0.3]
     plt.close(fig)
+    for top, lines in ((0.0, [0.0, 0.02, 0.05]), (0.061, [0.0, 0.02, 0.05]),
+                       (0.0751, [0.0, 0.02, 0.05, 0.08]),
+                       (0.2845, [0.0, 0.02, 0.05, 0.1, 0.2, 0.29]),
+                       (0.35, [0.0, 0.02, 0.05, 0.1, 0.2, 0.31])):      # capped at 0.36 - 0.05
+        fig = plots.rock_physics_template(ds.assign(
+            cement_fraction=ds.cement_fraction * 0 + top))
+        assert sorted(float(ln.get_gid().split("=")[1]) for ln in fig.axes[0].get_lines()
+                      if str(ln.get_gid()).startswith("cement_fraction=")) == lines, top
+        plt.close(fig)
 
 
-def test_depth_trends_shade_the_flagged_intervals():
-    """Issue 22: the depths the validity warnings name are shaded on every panel."""
-    ds = scene().assign_attrs(validity_warnings=(
-        "Model 1 (Krief frame) at 0–1400 m: porosity above 0.324\n"
-        "[gradient = 20] only some members at 100–200 m: not shaded\n"
+def test_depth_trends_mark_the_flagged_intervals_per_model_and_panel():
+    """Issue 30: a line about a model marks that model's curve on the panels that draw it (a
+    band along the curve, in its colour), not every panel; a line about the rock's state
+    shades every panel; a line for some sweep members marks those members' curves only."""
+    from matplotlib.colors import to_rgb
+
+    ds = scene(gradients=[20.0, 30.0]).assign_attrs(validity_warnings=(
+        "Models 1 and 3 (Krief frame) at 0–1400 m: porosity above 0.324\n"
+        "[gradient = 20] Model 4 (patchy cement) at 2000–2400 m: bonding pre-stress\n"
         "quartz cement at 3000–4000 m: overfill"))
-    fig = plots.depth_trends(ds)
-    for ax in fig.axes[:-1] if len(fig.axes) > 3 else fig.axes:
+    fig = plots.depth_trends(ds, ["porosity", "vp", "vs"])
+    panels = fig.axes[:3]
+    for ax in panels:                           # the rock's line: every panel, grey
         spans = [p for p in ax.patches if p.get_gid() == "flagged"]
-        extents = sorted(tuple(sorted((p.get_y(), p.get_y() + p.get_height())))
-                         for p in spans)
-        assert extents == [(0.0, 1400.0), (3000.0, 4000.0)]
+        assert sorted(tuple(sorted((p.get_y(), p.get_y() + p.get_height()))) for p in spans) \
+            == [(3000.0, 4000.0)]
+    assert not [c for c in panels[0].collections if str(c.get_gid()).startswith("flagged:")]
+    for ax in panels[1:]:
+        bands = [c for c in ax.collections if str(c.get_gid()).startswith("flagged:")]
+        # Models 1 and 3 for both gradients, Model 4 for gradient 20 only
+        assert sorted(c.get_gid() for c in bands) == ["flagged:generalized_gassmann"] * 2 \
+            + ["flagged:hs_gassmann"] * 2 + ["flagged:patchy_cement"]
+        for band in bands:
+            (segment,) = band.get_segments()
+            top, base = (0.0, 1400.0) if "gassmann" in band.get_gid() else (2000.0, 2400.0)
+            assert segment[:, 1].min() == top and segment[:, 1].max() == base   # 200 m step
+        model1 = next(c for c in bands if c.get_gid() == "flagged:hs_gassmann")
+        red, _, blue = to_rgb(model1.get_colors()[0])
+        assert blue > red + 0.2                         # Model 1's blue, not grey
     labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "model flagged (validity_warnings):\nband along its curve" in labels
     assert "flagged (validity_warnings)" in labels
     plt.close(fig)
     fig = plots.depth_trends(scene())               # no warnings: nothing shaded
     assert not [p for ax in fig.axes for p in ax.patches if p.get_gid() == "flagged"]
+    assert not [c for ax in fig.axes for c in ax.collections
+                if str(c.get_gid()).startswith("flagged")]
+    plt.close(fig)
+
+
+def test_depth_trends_draw_the_first_sweep_member_on_top():
+    """Issue 30: where members coincide (outside a reservoir), the first (darkest: the brine
+    baseline of a hydrocarbon sweep) is on top, not the last and lightest."""
+    fig = plots.depth_trends(scene(gradients=[20.0, 30.0, 40.0]), ["vp"])
+    lines = [ln for ln in fig.axes[0].get_lines() if "hs_gassmann" not in ln.get_label()
+             and ln.get_label().startswith(plots.MODEL_LABELS["hs_gassmann"])]
+    assert len(lines) == 3
+    assert lines[0].get_zorder() > lines[1].get_zorder() > lines[2].get_zorder()
     plt.close(fig)
 
 
@@ -686,4 +725,48 @@ def test_fit_figure_legend_names_the_window_and_overlay_legend_is_outside():
     assert all(ax.get_legend() is None for ax in fig.axes)       # nothing over the data
     assert any("well" in t.get_text() or "vp" in t.get_text().lower()
                for leg in fig.legends for t in leg.get_texts())
+    plt.close(fig)
+
+
+@pytest.fixture(scope="module")
+def fluids_sweep():
+    """The shipped hydrocarbon sweep (brine, gas, CO2 at 2000-2500 m) at a 250 m step."""
+    from rockcem.scene import load_scene, run_scene
+
+    pytest.importorskip("CoolProp")
+    return run_scene(load_scene("sandstone_fluids").replace(**{"path.depth_step": 250.0}))
+
+
+def test_hydrocarbon_members_titled_in_words(fluids_sweep):
+    """Issue 30: a panel titled 'hydrocarbon = co2'."""
+    fig = plots.rock_physics_template(fluids_sweep)
+    titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
+    assert titles == ["brine only (no hydrocarbon)",
+                      "gas in brine, saturation 0.8 at 2000-2500 m",
+                      "CO₂ in brine, saturation 0.8 at 2000-2500 m"]
+    plt.close(fig)
+    fig = plots.depth_trends(fluids_sweep, ["vp"])
+    labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "CO₂ in brine, saturation 0.8 at 2000-2500 m" in labels
+    assert "Model 1 (HS–Krief–Gassmann), brine only (no hydrocarbon)" in [
+        ln.get_label() for ln in fig.axes[0].get_lines()]
+    plt.close(fig)
+
+
+def test_velocity_porosity_breaks_at_the_reservoir_and_keeps_the_brine_on_top(fluids_sweep):
+    """Issue 30: the segments joining the brine sand to the reservoir's (at 2000 and 2500 m)
+    read as trends; the brine baseline was drawn under the lightest member."""
+    ds = fluids_sweep
+    fig = plots.velocity_porosity(ds)
+    lines = [ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "model:hs_gassmann"]
+    brine, gas, co2 = lines
+    assert brine.get_zorder() > gas.get_zorder() > co2.get_zorder()
+    assert np.isfinite(np.asarray(brine.get_ydata(), dtype=float)).all()
+    y = np.asarray(gas.get_ydata(), dtype=float)
+    depth = ds.depth.values
+    # breaks between 1750 and 2000 m and between 2500 and 2750 m: after the 8th and 11th depth
+    assert np.flatnonzero(np.isnan(y)).tolist() == [8, 12]
+    vp = ds.vp.sel(model="hs_gassmann", hydrocarbon="gas").values
+    np.testing.assert_array_equal(y[np.isfinite(y)], vp)
+    assert depth[7] == 1750.0 and depth[8] == 2000.0 and depth[10] == 2500.0
     plt.close(fig)

@@ -81,8 +81,19 @@ def _offsets(fig, gid):
                            if c.get_gid() == gid] or [np.empty((0, 2))])
 
 
+#: Model 4 slower near the surface (Vp/Vs 1.8/0.7 = 2.57, impedance 2.05 * 1.8 = 3.69 at
+#: 0 m), so that the axes, which span the template and the profiles' models, hold every MD
+#: point of md_dataset (the MD values as there).
+TALL = {"vp": (("model", "depth"), np.array([[1.8, 2.4, 3.0, 3.3, 3.6],
+                                               [NAN, NAN, 2.0, NAN, 3.0],
+                                               [NAN, NAN, 2.5, NAN, 3.2]])),
+        "vs": (("model", "depth"), np.array([[0.7, 1.2, 1.8, 2.0, 2.2],
+                                               [NAN, NAN, 0.8, NAN, 1.6],
+                                               [NAN, NAN, 1.2, NAN, 1.9]]))}
+
+
 def test_template_puts_md_points_at_md_density_with_propagated_bars():
-    fig = plots.rock_physics_template(md_dataset())
+    fig = plots.rock_physics_template(md_dataset(**TALL))
     # md_coating at 1000 m is trusted: impedance 2.10 * 2.0 (not burial's 2.15 * 2.0)
     np.testing.assert_allclose(_offsets(fig, "model:md_coating"), [[4.2, 2.5]], rtol=1e-12)
     np.testing.assert_allclose(_offsets(fig, "model:md_coating:untrusted"),
@@ -101,7 +112,7 @@ def test_template_puts_md_points_at_md_density_with_propagated_bars():
 
 def test_template_lower_bar_stops_at_zero_and_leaves_the_axis_alone():
     """md_contact at 1000 m: vs 1.2 +- 1.3, so Vp/Vs 2.083 +- (more than itself)."""
-    fig = plots.rock_physics_template(md_dataset())
+    fig = plots.rock_physics_template(md_dataset(**TALL))
     ax = fig.axes[0]
     segments = [s for c in ax.collections if c.get_gid() == "errorbar:md_contact"
                 for s in c.get_segments()]
@@ -109,6 +120,37 @@ def test_template_lower_bar_stops_at_zero_and_leaves_the_axis_alone():
     assert any(c.get_linestyle()[0][1] is not None for c in ax.collections
                if c.get_gid() == "errorbar:md_contact")            # dashed: untrusted
     assert ax.get_ylim()[0] > 1.0          # the bar does not drag the axis to zero
+    plt.close(fig)
+
+
+def test_template_axes_span_the_template_and_profiles_and_mark_md_points_beyond():
+    """Issue 30: MD points up to Vp/Vs 3.1 squashed the template. The axes span the template
+    and Model 4's profile (Vp/Vs 1.64-1.73); md_coating at 1000 m (Vp/Vs 2.0/0.8 = 2.5,
+    impedance 2.10 * 2.0 = 4.2, left of the template too) and 2000 m (3.0/1.6 = 1.875) and
+    md_contact at 1000 m (2.5/1.2 = 2.083) are drawn at the top edge, with their values."""
+    ds = md_dataset()
+    fig = plots.rock_physics_template(ds)
+    ax = fig.axes[0]
+    (left, right), (bottom, top) = ax.get_xlim(), ax.get_ylim()
+    assert 1.73 < top < 1.875 and bottom < 1.64
+    marks = [ln for ln in ax.get_lines() if str(ln.get_gid()).startswith("beyond:")]
+    assert sorted(ln.get_gid() for ln in marks) == ["beyond:md_coating"] * 2 \
+        + ["beyond:md_contact"]
+    at = sorted((ln.get_xdata()[0], ln.get_ydata()[0], ln.get_marker()) for ln in marks)
+    assert at == [(left, top, "^"), (2.10 * 2.5, top, "^"), (2.25 * 3.0, top, "^")]
+    assert 4.2 < left                                      # the coating at 1000 m: clamped
+    texts = {t.get_text() for t in ax.texts}
+    assert {"Vp/Vs 2.50", "Vp/Vs 1.88", "Vp/Vs 2.08"} <= texts
+    # the points within the axes are drawn as before; none of those beyond
+    assert _offsets(fig, "model:md_coating").shape == (0, 2)
+    assert _offsets(fig, "model:md_coating:untrusted").shape == (0, 2)
+    inside = _offsets(fig, "model:md_contact")            # 2000 m: 3.2 / 1.9
+    np.testing.assert_allclose(inside, [[2.25 * 3.2, 3.2 / 1.9]], rtol=1e-12)
+    labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert "MD point beyond the axes\n(at the edge, with its value)" in labels
+    plt.close(fig)
+    fig = plots.rock_physics_template(md_dataset(**TALL))   # all within: no marks
+    assert not [ln for ln in fig.axes[0].get_lines() if str(ln.get_gid()).startswith("beyond")]
     plt.close(fig)
 
 
