@@ -477,7 +477,7 @@ def _call_xarray(func, bound, names, phases, units):
         tail = [phase_dim] if name in phases else []
         data = da.transpose(*own, *tail).values
         values[name] = data.reshape([sizes[d][1] if d in da.dims else 1 for d in dims]
-                                    + [data.shape[-1]] * bool(tail))
+                                    + ([data.shape[-1]] if tail else []))
     coords, phase_coords = {}, {}
     for da in arrays.values():
         for c, var in da.coords.items():
@@ -488,8 +488,8 @@ def _call_xarray(func, bound, names, phases, units):
                 coords[c] = var
     bound.arguments.update(values)
     out = func(*bound.args, **bound.kwargs)
-    if not dims:
-        return out
+    if not dims and all(name in phases for name in arrays):
+        return out           # phases only: the phase axis is summed away, nothing to label
 
     def wrap(a, field, unit):
         if a.shape == ():

@@ -369,6 +369,15 @@ def test_voigt_phases_paired_by_coordinate_label():
     assert out.K.attrs == {"units": "GPa"}
 
 
+def test_zero_dimensional_dataarray_stays_a_dataarray():
+    """A 0-d DataArray (a value picked with .sel) gives 0-d DataArrays, its scalar coordinate
+    and unit kept: vp = √((36 + 4·27/3)/2) = 6 km/s."""
+    K = xr.DataArray(36.0, coords={"depth": 1500.0}, attrs={"units": "GPa"})
+    v = elastic.velocities(K, 27.0, 2.0)
+    assert isinstance(v.vp, xr.DataArray) and v.vp.dims == () and float(v.vp["depth"]) == 1500.0
+    assert float(v.vp) == pytest.approx(6.0, rel=1e-15) and v.vp.attrs == {"units": "km s-1"}
+
+
 def test_velocities_hand_computed_by_label():
     """vp = √((K + 4G/3)/ρ), vs = √(G/ρ): K 36, G 27 at ρ 2 gives vp √36 = 6, vs √13.5; K 16,
     G 12 at ρ 8 gives vp √4 = 2, vs √1.5; the densities given in reverse label order."""
