@@ -23,6 +23,7 @@ import numpy as np
 from .fluids import _check_common
 from .validation import (MAX_MODULUS, as_array, broadcast, check_modulus, check_positive,
                          check_range)
+from .validation import labelled
 
 __all__ = ["Thomsen", "TIStiffness", "VerticalVelocities", "thomsen", "ti_bulk_modulus",
            "ti_gassmann", "vertical_velocities"]
@@ -78,6 +79,7 @@ def _check_ti(c11, c13, c33, c44=None, c66=None):
     return out
 
 
+@labelled(units="1")
 def thomsen(c11, c13, c33, c44, c66) -> Thomsen:
     r"""Thomsen's anisotropy parameters of a TI medium (symmetry axis vertical).
 
@@ -125,6 +127,7 @@ def thomsen(c11, c13, c33, c44, c66) -> Thomsen:
     return Thomsen(epsilon, gamma, delta)
 
 
+@labelled(units="GPa")
 def ti_bulk_modulus(c11, c13, c33, c66):
     r"""Bulk modulus of a TI medium under hydrostatic stress (the Reuss-type modulus):
     :math:`1/K = \sum_{i,j=1}^{3} S_{ij}`, :math:`S = C^{-1}` the compliance (Voigt
@@ -169,6 +172,7 @@ def ti_bulk_modulus(c11, c13, c33, c66):
     return (c33 * s - 2.0 * c13**2) / (s + 2.0 * c33 - 4.0 * c13)
 
 
+@labelled(units="GPa")
 def ti_gassmann(c11, c13, c33, c44, c66, K_min, K_fluid, phi) -> TIStiffness:
     r"""Saturated stiffness of a TI dry frame of one isotropic mineral: the anisotropic form of
     Gassmann's equation ([Gassmann1951]_; [BrownKorringa1975]_ for any anisotropy, here their
@@ -241,6 +245,7 @@ def ti_gassmann(c11, c13, c33, c44, c66, K_min, K_fluid, phi) -> TIStiffness:
                        c66 + 0.0)
 
 
+@labelled(units="km s-1")
 def vertical_velocities(c33, c44, rho) -> VerticalVelocities:
     r"""P- and S-wave velocities along the symmetry axis of a TI medium,
     :math:`V_{P0} = \sqrt{C_{33}/\rho}`, :math:`V_{S0} = \sqrt{C_{44}/\rho}` (eqs. 9a–b of

@@ -14,6 +14,7 @@ import numpy as np
 from .validation import (as_array, broadcast_phases, check_fractions, check_modulus,
                           max_phases, min_phases, sum_phases)
 from .elastic import Moduli
+from .validation import labelled
 
 __all__ = ["Bounds", "voigt", "reuss", "hill", "hashin_shtrikman", "hashin_shtrikman_average",
            "hashin_shtrikman_upper"]
@@ -78,6 +79,7 @@ def _harmonic(values, f, shift=0.0):
     return np.maximum(inv - shift, 0.0)
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def voigt(K, G, fractions) -> Moduli:
     r"""Voigt (iso-strain) upper bound, :math:`M_V = \sum_i f_i M_i`.
 
@@ -102,6 +104,7 @@ def voigt(K, G, fractions) -> Moduli:
     return Moduli(sum_phases(f * K), sum_phases(f * G))
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def reuss(K, G, fractions) -> Moduli:
     r"""Reuss (iso-stress) lower bound, :math:`1/M_R = \sum_i f_i / M_i`.
 
@@ -117,6 +120,7 @@ def reuss(K, G, fractions) -> Moduli:
     return Moduli(_harmonic(K, f, zero), _harmonic(G, f, zero))
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def hill(K, G, fractions) -> Moduli:
     r"""Voigt–Reuss–Hill average, :math:`M_H = (M_V + M_R)/2` (eq. 19 of [Carcione2022]_).
 
@@ -133,6 +137,7 @@ def _zeta(K, G):
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman(K, G, fractions) -> Bounds:
     r"""Hashin–Shtrikman(–Walpole) bounds for ``n`` isotropic phases.
 
@@ -192,11 +197,13 @@ def _hs_lower(K, G, f):
     return _harmonic(K, f, 4.0 / 3.0 * G_min), _harmonic(G, f, _zeta(K_min, G_min))
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
     """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
     return Moduli(*_hs_upper(*_phases(K, G, fractions)))
 
 
+@labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_average(K, G, fractions) -> Moduli:
     r"""Mean of the Hashin–Shtrikman bounds, eq. C.3 of [Carcione2022]_.
 

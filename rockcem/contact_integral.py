@@ -41,6 +41,7 @@ from scipy.integrate import quad
 from scipy.special import ellipkm1
 
 from .validation import as_array, broadcast, check_positive, check_range
+from .validation import labelled
 
 __all__ = ["cemented_contact_stiffness"]
 
@@ -95,6 +96,7 @@ def _unit_matrix(panels: int):
     return mid, moment, W
 
 
+@labelled(units="1")
 def cemented_contact_stiffness(alpha, Lambda, thickness=0.0, *, panels=64, chunk=2048):
     r"""Normalised stiffness :math:`S(\alpha, \Lambda, \varepsilon)` of a cemented contact.
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from .validation import (MAX_DENSITY, MIN_DENSITY, as_array, broadcast, check_modulus,
                          check_positive, check_range)
+from .validation import labelled
 
 __all__ = ["Moduli", "Velocities", "poisson_ratio", "velocities", "p_wave_modulus"]
 
@@ -29,6 +30,7 @@ class Velocities(NamedTuple):
     vs: np.ndarray
 
 
+@labelled(units="1")
 def poisson_ratio(K, G):
     r"""Poisson ratio of an isotropic solid.
 
@@ -55,6 +57,7 @@ def poisson_ratio(K, G):
     return (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
 
 
+@labelled(units="GPa")
 def p_wave_modulus(K, G):
     r"""P-wave modulus :math:`E = K + \tfrac43 G`, GPa (eq. 22 of [Carcione2022]_).
 
@@ -74,6 +77,7 @@ def p_wave_modulus(K, G):
     return K + 4.0 / 3.0 * G
 
 
+@labelled(units="km s-1")
 def velocities(K, G, density) -> Velocities:
     r"""P- and S-wave velocities from moduli and density, eqs. 22–25 of [Carcione2022]_.
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
                           check_modulus, check_positive, check_range, sum_phases)
+from .validation import labelled
 
 __all__ = ["gassmann", "gassmann_dry", "generalized_gassmann", "generalized_gassmann_dry"]
 
@@ -22,6 +23,7 @@ def _check_common(K_min, K_fluid, phi, *, phi_open_low=False):
     return K_min, K_fluid, phi
 
 
+@labelled(units="GPa")
 def gassmann(K_dry, K_min, K_fluid, phi):
     r"""Saturated bulk modulus by Gassmann's equation, eqs. 4–6 of [Carcione2022]_.
 
@@ -71,6 +73,7 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     return K_dry + alpha * alpha_M
 
 
+@labelled(units="GPa")
 def gassmann_dry(K_sat, K_min, K_fluid, phi):
     r"""Dry-frame bulk modulus from the saturated one: Gassmann's equation inverted.
 
@@ -159,6 +162,7 @@ def _generalized_inputs(K_solid, solid_fractions, K_fluid, phi, *, K_frame=_ABSE
     return (*out[:n], *(a[..., 0] for a in out[n:]))
 
 
+@labelled(units="GPa", phases=("K_frame", "K_solid", "solid_fractions"))
 def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     r"""Generalized Gassmann modulus of a multi-mineral porous rock, eqs. 10–12 of [Carcione2022]_.
 
@@ -208,6 +212,7 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     return K_m + alpha * alpha_M
 
 
+@labelled(units="GPa", phases=("K_solid", "solid_fractions"))
 def generalized_gassmann_dry(K_sat, K_solid, solid_fractions, K_fluid, phi):
     r"""Invert :func:`generalized_gassmann` for the total frame modulus :math:`K_m = \sum K_{mi}`.
 

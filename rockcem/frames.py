@@ -11,6 +11,7 @@ from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
                           check_modulus, check_range, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import Moduli
+from .validation import labelled
 
 __all__ = ["krief", "krief_multimineral", "krief_factor", "MAX_KRIEF_EXPONENT"]
 
@@ -19,6 +20,7 @@ __all__ = ["krief", "krief_multimineral", "krief_factor", "MAX_KRIEF_EXPONENT"]
 MAX_KRIEF_EXPONENT = 100.0
 
 
+@labelled(units="1")
 def krief_factor(phi, A=3.0):
     r"""Krief's porosity factor :math:`(1-\phi)^{A/(1-\phi)}` (eq. 3 of [Carcione2022]_).
 
@@ -39,6 +41,7 @@ def krief_factor(phi, A=3.0):
     return np.where(inside, np.exp(A / (1.0 - safe_phi) * np.log1p(-safe_phi)), 0.0)
 
 
+@labelled(units="GPa")
 def krief(K_min, G_min, phi, A=3.0) -> Moduli:
     r"""Krief dry-frame moduli, eq. 3 of [Carcione2022]_ ([Krief1990]_).
 
@@ -75,6 +78,7 @@ def krief(K_min, G_min, phi, A=3.0) -> Moduli:
     return Moduli(K_min * factor, G_min * factor)
 
 
+@labelled(units="GPa", phases=("K_solid", "G_solid", "solid_fractions"))
 def krief_multimineral(K_solid, G_solid, solid_fractions, phi, A=3.0) -> Moduli:
     r"""Per-mineral Krief frame moduli of a multi-mineral rock, eqs. 13–14 of [Carcione2022]_.
 

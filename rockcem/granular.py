@@ -23,6 +23,7 @@ from .validation import (
     check_range,
     stack_phases,
 )
+from .validation import labelled
 
 __all__ = [
     "MAX_COORDINATION_NUMBER",
@@ -128,6 +129,7 @@ def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
 
 
 # ----------------------------------------------------------------------------- Hertz–Mindlin
+@labelled(units="GPa")
 def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     r"""Hertz–Mindlin moduli of a dense random pack of identical spheres at critical porosity.
 
@@ -184,6 +186,7 @@ def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     return Moduli(K, G)
 
 
+@labelled(units="GPa")
 def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     r"""Soft-sand (friable, unconsolidated) model: modified HS lower bound.
 
@@ -220,6 +223,7 @@ def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, hm.K, hm.G)
 
 
+@labelled(units="GPa")
 def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     r"""Stiff-sand model: modified HS upper bound between Hertz–Mindlin and the mineral.
 
@@ -242,6 +246,7 @@ def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
 
 
 # ----------------------------------------------------------------------------- contact cement
+@labelled(units="1")
 def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     r"""Normalised radius :math:`\alpha = a/R` of the cement at a grain contact.
 
@@ -305,6 +310,7 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
         return np.sqrt(np.where(pos, 2.0 * s / (r + np.hypot(r, 1.0)), 0.0))
 
 
+@labelled(units="1")
 def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
     r"""Porosity whose cement radius (:func:`cement_radius`) is ``alpha``: its inverse.
 
@@ -368,6 +374,7 @@ def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
     return Sn, St
 
 
+@labelled(units="GPa")
 def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, stiffness="fit",
                    panels=64) -> Moduli:
     r"""Contact cement theory (CCT) of Dvorkin & Nur, with the contact thickness of Han & Guo.
@@ -506,6 +513,7 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     return Moduli(K, G)
 
 
+@labelled(units="GPa")
 def constant_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0) -> Moduli:
     r"""Constant-cement model of [Avseth2000]_: contact cement at :math:`\phi_b`, then sorting.
 
@@ -551,6 +559,7 @@ def _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness):
     return K0, G0, phi, phic, phib
 
 
+@labelled(units="GPa")
 def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0) -> Moduli:
     r"""Increasing-cement model: modified HS upper bound from contact cement to the mineral.
 
@@ -572,6 +581,7 @@ def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.
     return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, K0, G0)
 
 
+@labelled(units="GPa")
 def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
                   contact_cement_limit=0.05, scheme=1, thickness=0.0, f=1.0, delta=0.0) -> Moduli:
     r"""Patchy-cement model in the form of Model 4 of [Carcione2022]_ (after [Avseth2016]_).

@@ -15,6 +15,7 @@ from .validation import (as_array, broadcast, broadcast_phases, check_fractions,
                          check_range, max_phases)
 from .bounds import hashin_shtrikman, reuss
 from .elastic import Moduli
+from .validation import FIELD_UNITS, labelled
 
 __all__ = ["berryman_pq", "self_consistent", "SolverInfo", "MIN_ASPECT_RATIO",
            "MAX_ASPECT_RATIO"]
@@ -160,6 +161,7 @@ def _pq(K_m, G_m, K_i, G_i, theta, f, sphere):
     return np.where(sphere, Ps, P), np.where(sphere, Qs, Q)
 
 
+@labelled(units="1")
 def berryman_pq(K_m, G_m, K_i, G_i, aspect_ratio=1.0):
     r"""Berryman's shape factors P and Q of a spheroidal inclusion in a matrix.
 
@@ -342,6 +344,7 @@ def _check_engine(engine):
     return engine
 
 
+@labelled(units=FIELD_UNITS, phases=("K", "G", "fractions", "aspect_ratio"))
 def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=200,
                     full_output=False, engine="auto"):
     r"""Berryman's self-consistent moduli of an ``n``-phase composite, eqs. 8–9 of [Carcione2022]_.

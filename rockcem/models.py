@@ -33,6 +33,7 @@ from .frames import krief, krief_multimineral
 from .granular import _shapes, cement_radius, patchy_cement
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
+from .validation import FIELD_UNITS, labelled
 
 __all__ = [
     "RockProperties",
@@ -85,6 +86,7 @@ def _fluid(fluid) -> Fluid:
     return fluid
 
 
+@labelled(units="g cm-3", phases=("mineral_density", "solid_fractions"))
 def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     r"""Bulk density, eq. 24 of [Carcione2022]_.
 
@@ -143,6 +145,7 @@ def _finish(K_dry, G_dry, K_sat, G_sat, density) -> RockProperties:
     return RockProperties(K_dry, G_dry, K_sat, G_sat, density, v.vp, v.vs)
 
 
+@labelled(units=FIELD_UNITS, phases=("solid_fractions",))
 def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockProperties:
     r"""Model 1 of [Carcione2022]_: Hashin–Shtrikman mineral, Krief frame, Gassmann fluid.
 
@@ -179,6 +182,7 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, fluid.rho))
 
 
+@labelled(units=FIELD_UNITS, phases=("solid_fractions",))
 def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_ratio,
                           tol=1e-12, engine="auto") -> RockProperties:
     r"""Model 2 of [Carcione2022]_: Berryman's self-consistent scheme, eqs. 8–9.
@@ -235,6 +239,7 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     return _finish(dry.K, dry.G, sat.K, sat.G, bulk_density(rho, beta, phi, fluid.rho))
 
 
+@labelled(units=FIELD_UNITS, phases=("solid_fractions",))
 def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
                                A=3.0) -> RockProperties:
     r"""Model 3 of [Carcione2022]_: multi-mineral Krief frame and generalized Gassmann.
@@ -256,6 +261,7 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
                    bulk_density(rho, beta, phi, fluid.rho))
 
 
+@labelled(units=FIELD_UNITS)
 def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, fluid, *,
                         critical_porosity=0.36, coordination_number=9.0,
                         contact_cement_limit=0.05, delta=100.0, scheme=1, thickness=0.0,

@@ -4,16 +4,23 @@ One rule for the whole project: bad input raises ``ValueError`` naming the argum
 valid range; nothing returns NaN or a complex number silently. With :mod:`rockcem.constants`
 and :mod:`rockcem.variables` this is the floor that ``burial``, the ``rockcem`` models and ``md``
 build on; it imports none of them, nor the scene layer.
+
+:func:`labelled` is the one place that handles pandas and xarray inputs: it aligns them by label,
+calls the numpy function below it and puts the labels back (pandas and xarray are imported only
+when a labelled input arrives, never for numpy ones).
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
+import inspect
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 __all__ = ["MAX_DENSITY", "MIN_DENSITY", "MAX_MODULUS", "MIN_MODULUS", "as_array", "as_scalar",
-           "prefixed_errors",
+           "prefixed_errors", "labelled", "FIELD_UNITS",
            "check_range", "check_positive", "check_modulus", "check_fractions", "broadcast",
            "broadcast_phases", "stack_phases", "sum_phases", "max_phases", "min_phases"]
 
@@ -33,13 +40,18 @@ def as_array(name: str, value) -> np.ndarray:
     """Return ``value`` as a float64 array (a copy is never needed: inputs are never mutated).
 
     Refuses, naming ``name``: ``None``, text (``"9"`` is not read as 9: a number given as
-    text is a mistake upstream), complex values and NaN. Infinities pass here; the range
-    checks below refuse them.
+    text is a mistake upstream), booleans (``True`` is not 1 °C), numpy masked arrays (their
+    masked values would be computed as valid ones), complex values and NaN. Infinities pass
+    here; the range checks below refuse them.
     """
     if value is None:
         raise ValueError(f"{name} must be a real number, got None")
     if isinstance(value, (str, bytes)):
         raise ValueError(f"{name} must be a real number, got text {value!r}")
+    if isinstance(value, np.ma.MaskedArray):
+        raise ValueError(f"{name} is a numpy masked array: its masked values would be computed "
+                         "as valid ones; give the valid values only (value.compressed() or "
+                         "value[~value.mask])")
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError):          # ragged nested sequences
@@ -47,6 +59,10 @@ def as_array(name: str, value) -> np.ndarray:
                          "numbers") from None
     if raw.dtype.kind in "USO" and any(isinstance(v, (str, bytes)) for v in raw.flat):
         raise ValueError(f"{name} must be a real number, got text {value!r}")
+    if raw.dtype.kind == "b" or (isinstance(value, (list, tuple)) and _holds_bool(value)) or (
+            raw.dtype.kind == "O" and any(isinstance(v, (bool, np.bool_)) for v in raw.flat)):
+        raise ValueError(f"{name} must be a real number, got a boolean (True/False is not 1/0 "
+                         "here)")
     if raw.dtype.kind == "c" or (raw.dtype.kind == "O"
                                  and any(isinstance(v, complex) for v in raw.flat)):
         raise ValueError(f"{name} must be real, got a complex value")
@@ -57,6 +73,15 @@ def as_array(name: str, value) -> np.ndarray:
     if np.isnan(arr).any():
         raise ValueError(f"{name} contains NaN")
     return arr
+
+
+def _holds_bool(seq) -> bool:
+    """Whether a (nested) list or tuple holds a ``bool`` (numpy reads ``[True, 2.0]`` as
+    ``[1.0, 2.0]``)."""
+    for v in seq:
+        if isinstance(v, (bool, np.bool_)) or (isinstance(v, (list, tuple)) and _holds_bool(v)):
+            return True
+    return False
 
 
 def as_scalar(name: str, value) -> float:
@@ -194,3 +219,288 @@ def prefixed_errors(prefix: str):
         yield
     except ValueError as exc:
         raise ValueError(f"{prefix}: {exc}") from None
+
+
+# --- labelled inputs -------------------------------------------------------------------------
+
+_LABELLED_MODULES = ("pandas", "xarray")     # a prefix of __module__ ("pandas" in pandas 3)
+
+#: Units of the results, as the functions' docstrings state them, written in the spelling of the
+#: variable registry (``datasets/variables.toml``, UDUNITS): by NamedTuple field name, for
+#: ``labelled(units=FIELD_UNITS)``.
+FIELD_UNITS = {
+    **dict.fromkeys(("K", "G", "K_dry", "G_dry", "K_sat", "G_sat", "K_lower", "G_lower",
+                     "K_upper", "G_upper", "c11", "c13", "c33", "c44", "c66"), "GPa"),
+    **dict.fromkeys(("rho", "density"), "g cm-3"),
+    **dict.fromkeys(("vp", "vs"), "km s-1"),
+    **dict.fromkeys(("epsilon", "gamma", "delta", "P", "Q"), "1"),
+}
+
+
+def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | None = None,
+             phases: tuple[str, ...] = ()):
+    """Let a numpy function take pandas and xarray inputs and return the type it was given.
+
+    The one mechanism for labels in the project (as MetPy's and xclim's decorators): the function
+    below it sees numpy arrays only. With no pandas or xarray argument the call goes straight
+    through (a check of each argument's type, well under a microsecond).
+
+    - **pandas**: ``Series`` are aligned by index label, not position (two Series with the same
+      labels in different orders are paired by label); the result is a ``Series`` on the first
+      one's index (a NamedTuple of ``Series`` for a NamedTuple result).
+    - **xarray**: ``DataArray`` are broadcast by dimension name, and aligned by coordinate label
+      along a dimension they share; the result is a ``DataArray`` over the union of their
+      dimensions, with their coordinates (a NamedTuple of ``DataArray`` for a NamedTuple result).
+    - **Phases** (the arguments named in ``phases``, phases on the last axis in numpy): a pandas
+      ``DataFrame`` has one row per sample and one column per phase, a ``Series`` one entry per
+      phase; a ``DataArray`` has its phases along its last dimension. Phase labels are aligned
+      like the others. A result per phase (as :func:`rockcem.frames.krief_multimineral`'s) is a
+      ``DataFrame`` with those columns, or a ``DataArray`` with that last dimension (named
+      ``phase`` when no phase input was a ``DataArray``).
+
+    Labels that differ (a label in one input and not in another, a repeated label that cannot be
+    paired) are refused by name, never filled with NaN or dropped. A numpy array given alongside
+    labelled inputs broadcasts by position, as it does in pandas and xarray; one that would add
+    dimensions to the result is refused. pandas and xarray inputs cannot be mixed in one call.
+
+    Parameters
+    ----------
+    func : callable
+        The numpy function (the decorator may be used bare or with keywords).
+    units : str or mapping, optional
+        The unit of the result as its documentation states it: one string for every array of the
+        result, or a mapping from a NamedTuple field to its unit. Written to the result's
+        ``attrs["units"]`` when an input carried ``attrs["units"]``.
+    phases : tuple of str
+        The arguments with phases on their last axis.
+    """
+    if func is None:
+        return functools.partial(labelled, units=units, phases=phases)
+    signature = inspect.signature(func)
+    phases = frozenset(phases)
+    unknown = phases.difference(signature.parameters)
+    if unknown:
+        raise TypeError(f"labelled({func.__name__}): no argument named {sorted(unknown)}")
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        for v in args:
+            if type(v).__module__.startswith(_LABELLED_MODULES):
+                break
+        else:
+            for v in kwargs.values():
+                if type(v).__module__.startswith(_LABELLED_MODULES):
+                    break
+            else:
+                return func(*args, **kwargs)
+        bound = signature.bind(*args, **kwargs)
+        return _call_labelled(func, bound, units, phases)
+
+    wrapper.__labelled__ = True
+    return wrapper
+
+
+def _call_labelled(func, bound, units, phases):
+    """Unwrap the labelled arguments of ``bound``, call ``func`` on numpy and re-wrap."""
+    kinds = {}
+    for name, v in bound.arguments.items():
+        package = type(v).__module__.partition(".")[0]
+        if package in _LABELLED_MODULES:
+            kinds[name] = package
+    if not kinds:            # a package whose name merely starts alike
+        return func(*bound.args, **bound.kwargs)
+    if len(set(kinds.values())) > 1:
+        pd_names = [k for k, v in kinds.items() if v == "pandas"]
+        xr_names = [k for k, v in kinds.items() if v == "xarray"]
+        raise ValueError(f"{func.__name__}: {', '.join(pd_names)} given as pandas and "
+                         f"{', '.join(xr_names)} as xarray; give all labelled inputs as one kind "
+                         "(e.g. xarray.DataArray.from_series, or DataArray.to_series())")
+    has_units = any(_has_units(bound.arguments[k]) for k in kinds)
+    if "pandas" in kinds.values():
+        return _call_pandas(func, bound, list(kinds), phases, units if has_units else None)
+    return _call_xarray(func, bound, list(kinds), phases, units if has_units else None)
+
+
+def _has_units(v) -> bool:
+    attrs = getattr(v, "attrs", None)
+    return isinstance(attrs, Mapping) and bool(attrs.get("units"))
+
+
+def _pairing(what: str, named):
+    """Positions that put each labelled index of ``named`` [(argument, pandas.Index)] in the
+    order of the first one (``None`` where it is already), refusing labels that differ."""
+    ref_name, ref = named[0]
+    out = [None]
+    for name, idx in named[1:]:
+        if idx.equals(ref):
+            out.append(None)
+            continue
+        if ref.has_duplicates or idx.has_duplicates:
+            raise ValueError(f"{name} and {ref_name} are labelled differently along {what} and "
+                             "one of them repeats a label, so they cannot be paired by label; "
+                             "give them the same index")
+        perm = idx.get_indexer(ref)
+        if len(idx) != len(ref) or (perm < 0).any():
+            extra = idx[~idx.isin(ref)]
+            where, other, only = (name, ref_name, extra) if len(extra) else \
+                (ref_name, name, ref[~ref.isin(idx)])
+            raise ValueError(f"{name} and {ref_name} do not have the same labels along {what}: "
+                             f"{len(only)} label(s) of {where} are not in {other} (e.g. "
+                             f"{only[0]!r}); select the common labels first (e.g. "
+                             "a, b = a.align(b, join='inner'))")
+        out.append(perm)
+    return out
+
+
+def _check_result_shape(func, out_shape, shape, what):
+    if out_shape != shape:
+        raise ValueError(f"{func.__name__}: the labelled inputs span {what} but the result has "
+                         f"shape {out_shape}: a numpy array given with them added dimensions; give "
+                         "it labelled too")
+
+
+def _rewrap(out, wrap, units, field=None):
+    """Apply ``wrap(array, field, unit)`` to every array in ``out`` (nested tuples kept, a
+    NamedTuple as its own type)."""
+    if isinstance(out, tuple):
+        fields = getattr(out, "_fields", None)
+        items = [_rewrap(v, wrap, units, fields[i] if fields else None)
+                 for i, v in enumerate(out)]
+        return type(out)._make(items) if fields else tuple(items)
+    if isinstance(out, (np.ndarray, np.generic, float, int)):
+        if units is None:
+            unit = None
+        elif isinstance(units, str):
+            unit = units
+        else:
+            unit = units.get(field)
+        return wrap(np.asarray(out), field, unit)
+    return out
+
+
+def _call_pandas(func, bound, names, phases, units):
+    import pandas as pd
+
+    samples, phase_labels = [], []
+    for name in names:
+        v = bound.arguments[name]
+        if isinstance(v, pd.DataFrame):
+            if name not in phases:
+                raise ValueError(f"{name} is a DataFrame but takes one value per sample: give a "
+                                 "Series (one column of the DataFrame)")
+            samples.append((name, v.index))
+            phase_labels.append((name, v.columns))
+        elif isinstance(v, pd.Series):
+            (phase_labels if name in phases else samples).append((name, v.index))
+        else:
+            raise ValueError(f"{name} is a pandas {type(v).__name__}: give a Series (or, for "
+                             "phases, a DataFrame with one column per phase)")
+    values = {name: bound.arguments[name].to_numpy() for name in names}
+    if samples:
+        for (name, _), perm in zip(samples, _pairing("the index", samples)):
+            if perm is not None:
+                values[name] = values[name][perm]
+    if phase_labels:
+        for (name, _), perm in zip(phase_labels, _pairing("the phases", phase_labels)):
+            if perm is not None:
+                values[name] = values[name][..., perm]
+    bound.arguments.update(values)
+    out = func(*bound.args, **bound.kwargs)
+    if not samples:          # phases only: the phase axis is summed away, nothing to label
+        return out
+    index = samples[0][1]
+    columns = phase_labels[0][1] if phase_labels else None
+
+    def wrap(a, field, unit):
+        if a.shape == ():
+            a = np.full(len(index), a[()])
+        if phases and a.ndim == 2 and a.shape[0] == len(index):     # per phase, as K_frame
+            s = pd.DataFrame(a, index=index, columns=columns if columns is not None
+                             and len(columns) == a.shape[1] else None)
+        else:
+            _check_result_shape(func, a.shape, (len(index),), f"an index of {len(index)} labels")
+            s = pd.Series(a, index=index, name=field)
+        if unit:
+            s.attrs["units"] = unit
+        return s
+
+    return _rewrap(out, wrap, units)
+
+
+def _call_xarray(func, bound, names, phases, units):
+    import xarray as xr
+
+    arrays = {}
+    for name in names:
+        v = bound.arguments[name]
+        if isinstance(v, xr.Dataset):
+            raise ValueError(f"{name} is an xarray Dataset: give one of its variables "
+                             f"(ds[{name!r}] or the like)")
+        if not isinstance(v, xr.DataArray):
+            raise ValueError(f"{name} is an xarray {type(v).__name__}: give a DataArray")
+        arrays[name] = v
+    phase_dim, phase_from = None, None
+    for name, da in arrays.items():
+        if name in phases:
+            if da.ndim == 0:
+                raise ValueError(f"{name} has its phases along its last dimension; got a "
+                                 "DataArray with no dimension")
+            if phase_dim is None:
+                phase_dim, phase_from = da.dims[-1], name
+            elif da.dims[-1] != phase_dim:
+                raise ValueError(f"{name} has its phases along its last dimension "
+                                 f"{da.dims[-1]!r} but {phase_from} along {phase_dim!r}: name "
+                                 "the phase dimension alike and put it last")
+    for name, da in arrays.items():
+        if name not in phases and phase_dim is not None and phase_dim in da.dims:
+            raise ValueError(f"{name} takes one value per sample but has the phase dimension "
+                             f"{phase_dim!r} (of {phase_from})")
+    # align by label along each dimension with an index; sizes must agree along the others
+    sizes: dict = {}
+    for name, da in arrays.items():
+        for d, n in da.sizes.items():
+            if d in sizes and sizes[d][1] != n:
+                raise ValueError(f"{name} and {sizes[d][0]} have {n} and {sizes[d][1]} entries "
+                                 f"along dimension {d!r}")
+            sizes.setdefault(d, (name, n))
+    for d in sizes:
+        named = [(name, da.indexes[d]) for name, da in arrays.items() if d in da.indexes]
+        if len(named) > 1:
+            for (name, _), perm in zip(named, _pairing(f"dimension {d!r}", named)):
+                if perm is not None:
+                    arrays[name] = arrays[name].isel({d: perm})
+    dims = tuple(d for d in sizes if d != phase_dim)
+    shape = tuple(sizes[d][1] for d in dims)
+    values = {}
+    for name, da in arrays.items():
+        own = [d for d in dims if d in da.dims]
+        tail = [phase_dim] if name in phases else []
+        data = da.transpose(*own, *tail).values
+        values[name] = data.reshape([sizes[d][1] if d in da.dims else 1 for d in dims]
+                                    + ([data.shape[-1]] if tail else []))
+    coords, phase_coords = {}, {}
+    for da in arrays.values():
+        for c, var in da.coords.items():
+            if phase_dim is not None and phase_dim in var.dims:
+                if var.dims == (phase_dim,):
+                    phase_coords.setdefault(c, var)
+            elif c not in coords:
+                coords[c] = var
+    bound.arguments.update(values)
+    out = func(*bound.args, **bound.kwargs)
+    if not dims and all(name in phases for name in arrays):
+        return out           # phases only: the phase axis is summed away, nothing to label
+
+    def wrap(a, field, unit):
+        if a.shape == ():
+            a = np.full(shape, a[()])
+        if phases and a.ndim == len(shape) + 1 and a.shape[:-1] == shape:  # per phase: K_frame
+            labelled_phases = phase_dim is not None and sizes[phase_dim][1] == a.shape[-1]
+            return xr.DataArray(a, dims=(*dims, phase_dim if labelled_phases else "phase"),
+                                coords={**coords, **phase_coords} if labelled_phases else coords,
+                                name=field, attrs={"units": unit} if unit else {})
+        _check_result_shape(func, a.shape, shape, f"dimensions {dims} of shape {shape}")
+        return xr.DataArray(a, dims=dims, coords=coords, name=field,
+                            attrs={"units": unit} if unit else {})
+
+    return _rewrap(out, wrap, units)

@@ -66,6 +66,7 @@ import numpy as np
 from ..constants import GAS_CONSTANT_J, GPA_PER_MPA, ZERO_CELSIUS_IN_KELVIN
 from ..validation import as_array, broadcast, check_range
 from ._common import _AIR_MOLAR_MASS, _S_MAX, _T_MAX, KM_PER_M, _finished, _state
+from ..validation import FIELD_UNITS, labelled
 
 __all__ = ["water", "brine", "oil", "max_gas_oil_ratio", "bubble_point_pressure", "gas"]
 
@@ -97,6 +98,7 @@ def _water_density(T, P):
                          - 0.002 * T * P**2)
 
 
+@labelled(units=FIELD_UNITS)
 def brine(temperature, pressure, salinity):
     r"""NaCl brine, eqs. 27–29 of [BatzleWang1992]_ (eq. 29 read with −820 S²; see the module
     notes).
@@ -148,6 +150,7 @@ def brine(temperature, pressure, salinity):
                      "pressure and salinity")
 
 
+@labelled(units=FIELD_UNITS)
 def water(temperature, pressure):
     """Pure water, eqs. 27a and 28 of [BatzleWang1992]_: :func:`brine` at ``salinity = 0``.
 
@@ -188,6 +191,7 @@ def _gas_gravity(name, value):
     return check_range(name, as_array(name, value), 0.5, 2.0)
 
 
+@labelled(units="1")
 def max_gas_oil_ratio(temperature, pressure, *, api=None, reference_density=None,
                       gas_gravity=0.6):
     r"""Largest gas–oil ratio the oil holds in solution at (T, P): eq. 21a of
@@ -219,6 +223,7 @@ def _max_gas_oil_ratio(T, P, rho0, G):
     return 0.02123 * G * (P * np.exp(4.072 / rho0 - 0.00377 * T)) ** 1.205
 
 
+@labelled(units="MPa")
 def bubble_point_pressure(temperature, gas_oil_ratio, *, api=None, reference_density=None,
                           gas_gravity=0.6):
     """Pressure (MPa) below which gas leaves solution: eq. 21a solved for P.
@@ -270,6 +275,7 @@ def _compressed(rho, P):
     return rho + (0.00277 * P - 1.71e-7 * P**3) * (rho - 1.15) ** 2 + 3.49e-4 * P
 
 
+@labelled(units=FIELD_UNITS)
 def oil(temperature, pressure, *, api=None, reference_density=None, gas_oil_ratio=0.0,
         gas_gravity=0.6):
     r"""Dead or live oil, eqs. 18–24 of [BatzleWang1992]_.
@@ -360,6 +366,7 @@ def oil(temperature, pressure, *, api=None, reference_density=None, gas_oil_rati
 
 # --- hydrocarbon gas -----------------------------------------------------------------------------
 
+@labelled(units=FIELD_UNITS)
 def gas(temperature, pressure, gravity):
     r"""Hydrocarbon gas, eqs. 9–11 of [BatzleWang1992]_ (after Thomas et al. 1970).
 

@@ -8,6 +8,7 @@ from ..fluids import gassmann
 from ..validation import (MAX_DENSITY, as_array, broadcast, broadcast_phases, check_fractions,
                           check_modulus, check_range, sum_phases)
 from ._common import FluidProperties
+from ..validation import FIELD_UNITS, labelled
 
 __all__ = ["wood", "brie", "patchy_saturation"]
 
@@ -20,6 +21,7 @@ def _velocity(K, rho):
     return np.asarray(np.sqrt(np.divide(K, rho, out=np.zeros(np.shape(K)), where=rho > 0.0)))
 
 
+@labelled(units=FIELD_UNITS, phases=("fractions", "K", "rho"))
 def wood(fractions, K, rho):
     r"""Uniform (fine-scale) mixture of fluids, Wood's equation ([Wood1955]_): the Reuss
     average of the moduli and the volume average of the densities,
@@ -63,6 +65,7 @@ def wood(fractions, K, rho):
     return FluidProperties(np.asarray(K_mix), np.asarray(rho_mix), _velocity(K_mix, rho_mix))
 
 
+@labelled(units=FIELD_UNITS)
 def brie(water_saturation, K_brine, K_hydrocarbon, rho_brine, rho_hydrocarbon, *,
          exponent=3.0):
     r"""Brie's empirical fluid mixing law ([Brie1995]_), from uniform to patchy saturation,
@@ -104,6 +107,7 @@ def brie(water_saturation, K_brine, K_hydrocarbon, rho_brine, rho_hydrocarbon, *
     return FluidProperties(np.asarray(K), np.asarray(rho), _velocity(K, rho))
 
 
+@labelled(units="GPa", phases=("saturations", "K_fluids"))
 def patchy_saturation(K_dry, G_dry, K_min, phi, saturations, K_fluids):
     r"""Saturated bulk modulus of a rock with patchy saturation ([Mavko2009]_, after White
     1975 and Mavko & Mukerji 1998): each patch holds one fluid and obeys Gassmann's equation

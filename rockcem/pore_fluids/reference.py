@@ -10,6 +10,7 @@ import numpy as np
 from ..constants import ZERO_CELSIUS_IN_KELVIN
 from ..validation import as_array, broadcast, check_range
 from ._common import _G_CM3_PER_KG_M3, _HINT, _PA_PER_MPA, KM_PER_M, _finished
+from ..validation import FIELD_UNITS, labelled
 
 __all__ = ["co2", "methane"]
 
@@ -105,6 +106,7 @@ def _coolprop(name, temperature, pressure):
                      "state at this temperature and pressure")
 
 
+@labelled(units=FIELD_UNITS)
 def co2(temperature, pressure):
     """Carbon dioxide from the Span–Wagner equation of state ([SpanWagner1996]_) via CoolProp.
 
@@ -141,6 +143,7 @@ def co2(temperature, pressure):
     return _coolprop("co2", temperature, pressure)
 
 
+@labelled(units=FIELD_UNITS)
 def methane(temperature, pressure):
     """Methane from the Setzmann–Wagner equation of state ([SetzmannWagner1991]_) via CoolProp.
 
