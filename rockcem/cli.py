@@ -460,10 +460,18 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rockcem`` console script."""
+    import warnings
+
+    from .validity import RockcemValidityWarning
+
     parser = _parser()
     args = parser.parse_args(argv)
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            # The run summary prints the validity warnings (and the file holds them): as
+            # Python warnings too they would reach the terminal twice.
+            warnings.simplefilter("ignore", RockcemValidityWarning)
+            return args.func(args)
     except (ValueError, FileNotFoundError) as exc:
         print(f"rockcem: error: {exc}", file=sys.stderr)
         return 2

@@ -554,12 +554,14 @@ def _check_fluid(given, fluid, sweep, sweep_member):
             if top is not None and base is not None and not top < base:
                 raise ValueError(f"scene keys fluid.top ({top:g} m) and fluid.base "
                                  f"({base:g} m) must make an interval: top < base")
-    if any(h in ("co2", "methane") for h in carbons):
-        import importlib.util
+    eos = [h for h in carbons if h in ("co2", "methane")]
+    if eos:         # the fluids of a reference equation of state (not gas or oil) need CoolProp
+        from .pore_fluids.reference import _coolprop_problem
 
-        if importlib.util.find_spec("CoolProp") is None:
-            raise ValueError(f"scene key fluid.hydrocarbon = {carbons[0]!r} needs CoolProp "
-                             "(reference equations of state): pip install 'rockcem[fluids]'")
+        problem = _coolprop_problem()
+        if problem is not None:
+            raise ValueError(f"scene key fluid.hydrocarbon = {eos[0]!r} needs CoolProp: "
+                             f"{problem}")
 
 
 def _check_path_kind(given, path, base_dir):

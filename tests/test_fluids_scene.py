@@ -133,14 +133,26 @@ def test_a_broken_coolprop_is_named_not_blamed_on_a_missing_install(broken_coolp
 
 
 def test_a_broken_coolprop_in_a_scene_is_one_value_error(broken_coolprop):
-    """The scene's check at load finds CoolProp; the run then says, in one line under the
-    scene's key, that it fails to import (the CLI prints a ValueError as one line, exit 2)."""
-    scene = scene_from_dict({**BASE, "fluid": {**RESERVOIR, "hydrocarbon": "co2"}})
-    with pytest.raises(ValueError, match=r"^scene section \[fluid\] \(fluid.hydrocarbon = "
-                                         r"'co2'\): CoolProp is installed at .* but fails to "
+    """The scene's check at load tries CoolProp and says, in one line under the scene's key,
+    that it fails to import (the CLI prints a ValueError as one line, exit 2)."""
+    with pytest.raises(ValueError, match=r"^scene key fluid.hydrocarbon = 'co2' needs CoolProp: "
+                                         r"CoolProp is installed at .* but fails to "
                                          r"import \(ImportError: libCoolProp.so") as err:
-        run_scene(scene)
+        scene_from_dict({**BASE, "fluid": {**RESERVOIR, "hydrocarbon": "co2"}})
     assert "\n" not in str(err.value)
+
+
+def test_an_absent_coolprop_is_blamed_on_the_fluid_that_needs_it(monkeypatch):
+    """sandstone_fluids sweeps gas (Batzle & Wang's, no CoolProp) before CO2: the message
+    names CO2, the first fluid that needs CoolProp, not gas."""
+    from rockcem.scene import load_scene
+
+    monkeypatch.setitem(sys.modules, "CoolProp", None)
+    monkeypatch.setitem(sys.modules, "CoolProp.CoolProp", None)
+    with pytest.raises(ValueError, match=r"^scene key fluid.hydrocarbon = 'co2' needs CoolProp: "
+                                         r"CoolProp \(reference equations of state\) is not "
+                                         r"installed"):
+        load_scene("sandstone_fluids")
 
 
 def test_an_absent_coolprop_says_it_is_not_installed(monkeypatch):
