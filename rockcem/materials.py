@@ -104,6 +104,13 @@ class Fluid:
     def __post_init__(self):
         for key, unit in (("K", "GPa"), ("rho", "g/cm3")):
             value = getattr(self, key)
+            if type(value).__module__.split(".")[0] in ("pandas", "xarray"):
+                # Kept as plain values they would be paired by position with the models'
+                # labelled inputs (rockcem.validation.labelled aligns only direct arguments).
+                raise ValueError(f"Fluid {self.name!r}: {key} is a {type(value).__name__}; a "
+                                 "Fluid holds numbers or numpy arrays over depth, paired by "
+                                 "position with the model's other inputs: align it with them "
+                                 f"and pass {key}.to_numpy()")
             try:
                 arr = np.asarray(value, dtype=float)
             except (TypeError, ValueError):

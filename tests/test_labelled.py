@@ -474,3 +474,19 @@ def test_numpy_array_adding_dimensions_refused():
 def test_decorator_names_unknown_phase_argument():
     with pytest.raises(TypeError, match=r"no argument named \['y'\]"):
         labelled(lambda x: x, phases=("y",))
+
+
+@pytest.mark.parametrize("kind", ["pandas", "xarray"])
+def test_a_fluid_refuses_labelled_values(kind):
+    """materials.Fluid keeps numbers or numpy arrays, paired by position in the models: a
+    labelled K or rho would lose its labels there, so it is refused by name."""
+    import pandas as pd
+    import xarray as xr
+
+    from rockcem.materials import Fluid
+
+    value = (pd.Series([2.2, 2.3], index=[10, 20]) if kind == "pandas"
+             else xr.DataArray([2.2, 2.3], dims="depth"))
+    with pytest.raises(ValueError, match=r"Fluid 'brine': K is a (Series|DataArray).*to_numpy"):
+        Fluid(value, 1.0, "brine")
+    assert Fluid(value.to_numpy(), 1.0).K.tolist() == [2.2, 2.3]
