@@ -413,10 +413,13 @@ def load_calibration(source, *, base_dir=None) -> dict:
         names = f"; shipped calibrations: {', '.join(shipped)}" if shipped else ""
         raise ValueError(f"calibration file {str(source)!r} not found (looked for {looked})"
                          f"{names}")
+    from ._toml import toml_text
+
     data = path.read_bytes()
+    text = toml_text(path, f"calibration file {path}")      # UTF-8, a byte-order mark dropped
     try:
-        raw = tomllib.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"calibration file {path} is not valid TOML: {exc}") from None
     _check_calibration(raw, str(path))
     return {"name": str(raw.get("name", path.stem)), "model": raw["model"],

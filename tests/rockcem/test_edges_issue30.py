@@ -259,3 +259,20 @@ def test_a_new_atomic_write_gets_the_mode_a_new_file_gets(tmp_path, umask, want)
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "new.txt").stat().st_mode) == want
     assert stat.S_IMODE((tmp_path / "plain.txt").stat().st_mode) == want
+
+
+def test_calibration_file_with_a_bom_or_latin1(tmp_path):
+    """A calibration file is read as scenes are (rockcem._toml.toml_text): a UTF-8 byte-order
+    mark is dropped; a latin-1 byte is refused naming the file and the line."""
+    from rockcem._data import data_path
+    from rockcem.calibrate import load_calibration
+
+    shipped = data_path("calibrations", "garcia_medina_compacted_patchy.toml").read_bytes()
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + shipped)
+    assert load_calibration(bom)["parameters"] == load_calibration(
+        "garcia_medina_compacted_patchy")["parameters"]
+    latin = tmp_path / "latin.toml"
+    latin.write_bytes(shipped.replace(b"\n", b"\n# caf\xe9\n", 1))
+    with pytest.raises(ValueError, match=r"calibration file .*latin.toml is not UTF-8.*line 2"):
+        load_calibration(latin)
