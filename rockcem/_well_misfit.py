@@ -157,6 +157,9 @@ def well_misfit(ds, well, *, intervals=None, variables=None):
             or np.any(np.diff(edges) <= 0):
         raise ValueError(f"intervals must be at least two finite, increasing depths (m); got "
                          f"{edges.tolist()}")
+    if edges[-1] < lo or edges[0] > hi:
+        raise ValueError(f"intervals {edges[0]:g}-{edges[-1]:g} m lie outside the depths the "
+                         f"well and the scene share ({lo:g}-{hi:g} m)")
     z = well.depth.values
     rows = []
     for name in shared:
