@@ -80,7 +80,12 @@ def _compare(args) -> int:
     if sweeps:
         raise ValueError(f"{args.scene} has sweep dimensions {', '.join(sweeps)}; compare one "
                          "member (rockcem plot --select, or a scene without [sweep])")
-    table = well_misfit(ds, well, intervals=args.intervals)
+    try:
+        table = well_misfit(ds, well, intervals=args.intervals)
+    except ValueError as exc:       # name the option the user gave
+        if args.intervals is not None and str(exc).startswith("intervals "):
+            raise ValueError(f"--{exc}") from None
+        raise
     if args.intervals is not None and "n" in table.columns and not (table["n"] > 0).any():
         z = well.depth.values
         raise ValueError(f"--intervals {' '.join(f'{v:g}' for v in args.intervals)}: no sample "

@@ -166,7 +166,7 @@ def test_intervals_wholly_outside_the_well_exit_2(tmp_path, capsys):
     f = csv(tmp_path, "DEPT (m),DT (us/ft)\n1000,100\n1010,100\n")
     line = one_line_error(capsys, ["compare", str(tmp_path / "s.nc"), "--well", str(f),
                                    "--intervals", "2000", "2500", "-q"])
-    assert line.startswith("rockcem: error: intervals 2000-2500 m lie outside the depths the "
+    assert line.startswith("rockcem: error: --intervals 2000-2500 m lie outside the depths the "
                            "well and the scene share (1000-1010 m)")
     assert cli.main(["compare", str(tmp_path / "s.nc"), "--well", str(f), "--intervals",
                      "900", "2000", "-q"]) == 0
