@@ -77,6 +77,34 @@ def test_md_member_at_the_chosen_depths_only(result):
     assert "porosity differs from burial's" not in ds.attrs["validity_warnings"]
 
 
+def test_md_compaction_stages_overshoot_by_one_fine_increment(result):
+    """Issue 30: the 1.05 bound above hides a five times larger last step. Each compaction
+    stage file holds its record: the last tenth in increments of a fifth of carry_down's
+    strain_step (5e-4), 1 - strain_k = (1 - 1e-4)^k exactly, stopped at the first increment
+    whose vertical stress reaches the depth's target, so md_stress exceeds the target by less
+    than that last increment's stress change (all earlier increments were short of it)."""
+    import glob
+
+    import md
+
+    ds, path = result
+    files = sorted(glob.glob(str(path / "md" / "*" / "pack" / "compact_*.nc")))
+    assert len(files) == 3
+    reached = {}
+    for f in files:
+        pack = md.load_pack(f)
+        rec, target = pack.metadata["record"], pack.metadata["target_stress"]
+        assert pack.metadata["strain_step"] == pytest.approx(1e-4, rel=1e-12)
+        k = np.arange(1, len(rec["strain"]) + 1)
+        np.testing.assert_allclose(1 - np.asarray(rec["strain"]), (1 - 1e-4) ** k, rtol=1e-12)
+        s = np.asarray(rec["stress_zz"])
+        assert s[-1] >= target and np.all(s[:-1] < target)
+        reached[round(target / 1e6, 9)] = s[-1] / 1e6
+    ran = np.isfinite(ds.vp.sel(model="md").values)
+    for want, got in zip(ds.pressure_effective.values[ran], ds.md_stress.values[ran]):
+        assert got == pytest.approx(reached[round(float(want), 9)], rel=1e-12)
+
+
 def test_md_velocity_rises_down_the_path(result):
     """More stress and more cement at every deeper depth: the MD sample stiffens."""
     ds, _ = result
