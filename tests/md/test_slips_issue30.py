@@ -379,8 +379,9 @@ def test_ti_frame_soundness_at_each_condition(change, K_min, ok):
     Voigt-type bulk modulus (2 C11 + C33 + 2 C12 + 4 C13)/9 <= K_min, with C12 = C11 - 2 C66.
     With C11 6, C13 1.5, C33 9, C44 5.4, C66 2.4 that bulk is 29.4/9 = 3.267: sound for K_min
     3.3, not for 3.2; C13 5.6 is positive definite, 5.8 is not. Slips checked: C12 = C11 - C66
-    (bulk 3.8: K_min 3.3 unsound), the K_min condition dropped, ``c11 > c66`` dropped, C13
-    not squared."""
+    (bulk 3.8: K_min 3.3 unsound), the K_min condition dropped, C13 not squared. (Dropping
+    ``c11 > c66`` changes nothing: with C33 > 0, which the isotropic fallback's Gassmann
+    requires, C13^2 < C33 (C11 - C66) implies it.)"""
     from rockcem._md_backend import saturated_moduli
 
     base = {"c11": 6.0, "c13": 1.5, "p_modulus": 9.0, "shear_modulus": 5.4, "c66": 2.4}
@@ -394,7 +395,8 @@ def test_total_error_and_trust_by_hand():
     """total_error is the two errors in quadrature (3, 4 -> 5), NaN where either is; a member
     is trusted where both errors are at most the threshold of their velocity (0.5 of 2.0 at
     0.25: on the boundary, trusted) and measured. Slips checked: the errors added, ``<=``
-    written ``<``, one velocity's test dropped, a NaN error trusted."""
+    written ``<``, the S velocity's test dropped. (Dropping the ``isfinite`` terms changes
+    nothing: a comparison with NaN is already False.)"""
     from rockcem._md_backend import total_error, trusted_members
 
     np.testing.assert_allclose(total_error([3.0, 0.0], [4.0, 2.0]), [5.0, 2.0], rtol=1e-15)
