@@ -443,3 +443,91 @@ def test_md_warnings_name_the_depths_of_each_condition():
     assert "not trusted: its total error (resolution and sample size" in trust
     assert md_warnings(depth, burial, {**per_depth, "md_porosity": burial + 0.0078125,
                                        "md_cement_overflow": np.zeros(4)}) == []
+
+
+@pytest.fixture(scope="module")
+def long_block():
+    """The cement block of the pulse checks of tests/md/test_acoustic.py: 3 x 3 x 160 cells,
+    slabs of 8, with rotations."""
+    return cement_block((3, 3, 160), CW, HARD_CEMENT, slab_thickness=8 * CW)
+
+
+@pytest.mark.parametrize("measure,anisotropy,rel", [("static", "ti", 2e-5),
+                                                    ("static", "isotropic", 2e-5),
+                                                    ("pulse", "isotropic", 0.06)])
+def test_member_moduli_of_a_cement_block_in_every_reading(long_block, measure, anisotropy,
+                                                          rel):
+    """md.along_depth._moduli, the member's moduli in each of its three readings, on a pure
+    cement block whose constants are the cement's: C33 = rho Vp^2, C44 = rho Vs^2 and (TI)
+    C11 = C33, C13 = rho (Vp^2 - 2 Vs^2), C66 = C44 (the isotropic lattice with rotations,
+    tests/md/test_static_stiffness.py); NaN for C11, C13, C66 in the isotropic readings; the
+    density the cement's. The pulse reading (not run by any scene test) within 6 % in the
+    modulus (3 % in the velocity, the square pulse's bias). Slips checked: the pulse's shear
+    modulus from the P velocity, its P modulus without the square, a TI member's C13 read
+    from C66 (``"c13": st.c66``). (C13 read from C12 or C31 is not seen here: the block's
+    three are equal.)"""
+    from md.along_depth import _moduli
+
+    c = HARD_CEMENT
+    M, G = c.density * c.vp**2, c.density * c.vs**2
+    got = _moduli(long_block, measure, anisotropy)
+    assert got["p_modulus"] == pytest.approx(M, rel=rel)
+    assert got["shear_modulus"] == pytest.approx(G, rel=rel)
+    assert got["density"] == pytest.approx(c.density, rel=1e-12)
+    if anisotropy == "ti":
+        assert got["c11"] == pytest.approx(M, rel=rel)
+        assert got["c13"] == pytest.approx(M - 2 * G, rel=rel)
+        assert got["c66"] == pytest.approx(G, rel=rel)
+    else:
+        assert np.isnan([got["c11"], got["c13"], got["c66"]]).all()
+
+
+def test_carry_down_grows_the_second_depths_cement_on_the_first(compacted_pack, tmp_path,
+                                                               monkeypatch):
+    """carry_down with grown cement over two depths (pore-body cement 0.05, then 0.12): the
+    second depth's cement stage holds every cell the first depth's cement is carried to on the
+    second pack (md.reconstruct.carried_cells of the first stage's attached points), and its
+    window holds 0.12 to within half a cell. The MD compaction is replaced by an affine
+    vertical shortening of the stored pack (0.3 % per 15 MPa) so the test stays fast; the
+    cement, the carry and the moduli are carry_down's own. Slip checked: ``grown[(scheme, w)]
+    = state`` dropped in md/along_depth.py (each depth cemented afresh)."""
+    import xarray as xr
+
+    import md.along_depth as ad
+    import md.protocols
+    from md.reconstruct import carried_cells
+    from md.state import load_pack, save_pack
+
+    def prepare(folder, **_):
+        return compacted_pack
+
+    def compacted(pack, stress, folder, chain_key, strain_step, progress, *, unload=False):
+        x = compacted_pack.positions.copy()
+        centre = 0.5 * (x[:, 2].min() + x[:, 2].max())
+        x[:, 2] = centre + (x[:, 2] - centre) * (1.0 - 0.003 * stress / 15e6)
+        out = dataclasses.replace(compacted_pack, positions=x,
+                                  metadata={"stress_zz": float(stress)})
+        folder.mkdir(parents=True, exist_ok=True)
+        key = ad._key({"previous": chain_key, "stress": float(stress)})
+        path = folder / f"fake_{stress / 1e6:g}.nc"
+        save_pack(out, path)
+        return out, key, path
+
+    monkeypatch.setattr(md.protocols, "prepare_pack", prepare)
+    monkeypatch.setattr(ad, "_compacted", compacted)
+    ds = ad.carry_down([15.0, 30.0], [0.05, 0.12], schemes=("pore_body",), compaction="hertz",
+                       resolution=2.0, anisotropy="isotropic", workdir=tmp_path)
+    [first_file] = tmp_path.glob("*/cement/pore_body_w2_c0.05_*.nc")
+    [second_file] = tmp_path.glob("*/cement/pore_body_w2_c0.12_*.nc")
+    with xr.open_dataset(first_file) as a, xr.open_dataset(second_file) as b:
+        grain, offset = a["grain"].values, a["offset"].values
+        second = b["cells"].values.astype(bool)
+    pack2 = load_pack(next(tmp_path.glob("*/pack/fake_30.nc")))
+    lat2 = cement_lattice(pack2, 2.0)
+    carried = carried_cells(pack2, lat2, grain, offset)
+    assert carried.sum() > 0.5 * grain.size
+    assert np.all(second[carried])
+    inside, volume = _window_cells(pack2, lat2)
+    assert abs(np.count_nonzero(second & inside) * lat2.cell_width**3 / volume - 0.12) \
+        <= 0.5 * lat2.cell_width**3 / volume
+    assert np.isfinite(ds.p_modulus.values).all()
