@@ -557,7 +557,8 @@ def md_warnings(depth, porosity, per_depth, per_model=None) -> list[str]:
         off = np.isfinite(asym) & (asym == 0)
         if np.any(off):
             lines.append(f"MD model {label} at {', '.join(f'{d:g}' for d in depth[off])} m: "
-                         "the three lattice resolutions are not in the asymptotic range (no "
-                         "credible order); vp_error_resolution and vs_error_resolution there "
-                         "are three times the larger first-order step (md.convergence)")
+                         "the three lattice resolutions are not in the asymptotic range of vp, "
+                         "vs or both (no credible order): the resolution error of a velocity "
+                         "without one is three times the larger first-order step, of a velocity "
+                         "with one the grid convergence index of its order (md.convergence)")
     return lines
