@@ -19,7 +19,7 @@ DOCS = ROOT / "docs"
 
 #: Pages whose Python is run.
 PAGES = ["getting_started.md", "user_guide/pore_fluids.md", "user_guide/wells.md",
-         "user_guide/burial.md", "user_guide/models.md"]
+         "user_guide/burial.md", "user_guide/models.md", "user_guide/labelled_inputs.md"]
 #: Pages with Python that is not run here, and why.
 NOT_RUN = {"user_guide/md_engine.md": "settles an MD pack; the first run compiles numba's "
                                       "kernels (minutes on a cold cache; tests/md covers it)"}
@@ -57,16 +57,30 @@ def test_snippets_run(page, tmp_path):
     run_page(page, tmp_path)
 
 
+def test_labelled_inputs_snippets_print_what_the_page_says(tmp_path):
+    """The labelled-inputs page: the xarray brine on (depth, scenario) in GPa, and the Voigt
+    average of phases matched by label, 0.8 x 37 + 0.2 x 76.8 = 44.96 and 56.9 GPa."""
+    printed = run_page("user_guide/labelled_inputs.md", tmp_path)
+    assert "('depth', 'scenario') GPa" in printed
+    values = re.findall(r"^(\d+(?:\.\d+)?)\s+([\d.]+)$", printed, re.M)
+    assert [(float(z), round(float(v), 2)) for z, v in values][-2:] == [(1500.0, 44.96),
+                                                                        (2500.0, 56.9)]
+
+
 def test_pore_fluid_snippet_prints_the_page_s_brine_table(tmp_path):
-    """The snippet's brine at 0, 2000 and 4000 m is the page's table there (K, rho, vp)."""
+    """The page's snippets print what the page says: the brine at 80 °C and 30 MPa of the
+    first is its comment's values, the brine at 0, 2000 and 4000 m of the second is the page's
+    table there (K, rho, vp), and its warning names the salinity."""
     printed = run_page("user_guide/pore_fluids.md", tmp_path).splitlines()
-    K, rho, vp = (list(map(float, part.split())) for part in
-                  re.findall(r"\[([^\]]*)\]", printed[0]))
     text = (DOCS / "user_guide/pore_fluids.md").read_text(encoding="utf-8")
+    said = re.search(r"# ([\d.]+) GPa, ([\d.]+) g/cm³, ([\d.]+) km/s", text).groups()
+    assert [round(float(v), 3) for v in printed[0].split()] == list(map(float, said))
+    arrays = next(line for line in printed if line.startswith("["))
+    K, rho, vp = (list(map(float, part.split())) for part in re.findall(r"\[([^\]]*)\]", arrays))
     table = {float(m[0]): tuple(map(float, m[1:])) for m in re.findall(
         r"^\| (\d+) \| [\d.]+ \| [\d.]+ \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$", text, re.M)}
     assert [table[z] for z in (0.0, 2000.0, 4000.0)] == list(zip(K, rho, vp))
-    assert "salinity above 0.3" in printed[2]
+    assert "salinity above 0.3" in printed[-1]
 
 
 @pytest.mark.slow
