@@ -318,6 +318,10 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     ``scheduler`` / ``jobs`` (:func:`md._tasks.run_tasks`)."""
     from .variables import build_dataset
 
+    if scene.layers:                    # a stack of lithologies (rockcem._scene_stack)
+        from ._scene_stack import evaluate_stack
+
+        return evaluate_stack(scene)
     pipe = _Pipeline(scene, scheduler=scheduler, jobs=jobs, progress=progress)
     depth = pipe.now(pipe.path.depth)
     data = {}

@@ -15,6 +15,10 @@ Burial paths: ``[path] kind = "linear"`` (the linear basin model, the default), 
 horizons' present-day depths) or ``"nodes"`` (one history every depth follows); tables as a CSV
 file (``table``) or inline arrays, see :mod:`rockcem.histories`.
 
+Stacks: a scene with ``[[layers]]`` (and ``[stack]``) is several lithologies buried by one
+path, a seal over a reservoir; :mod:`rockcem._scene_stack` describes its keys and Dataset, and
+:func:`interface_properties` gives both sides of its interfaces.
+
 Scene calibrations: a top-level ``calibration = "<file>"`` names a calibration file with
 ``model = "scene"`` (written by ``rockcem fit``, :mod:`rockcem.wellfit`) whose ``[parameters]``
 set ``"section.key"`` values (:func:`rockcem.calibrate.apply_scene_calibration`).
@@ -41,12 +45,14 @@ import numpy as np
 
 from ._atomic import check_scene_name
 from ._data import data_path
+from ._scene_stack import InterfaceProperties, interface_properties
 from ._toml import toml_text, toml_value
 from .variables import sweep_dimension
 
 __all__ = ["SCHEMA", "Scene", "load_scene", "scene_from_dict", "scene_path", "shipped_scenes",
            "run_scene", "write_dataset", "MAX_SWEEP_MEMBERS", "sweep_size", "MODEL_OUTPUTS",
-           "STATE_OUTPUTS", "FLUID_OUTPUTS", "CALIBRATED_MODELS"]
+           "STATE_OUTPUTS", "FLUID_OUTPUTS", "CALIBRATED_MODELS", "interface_properties",
+           "InterfaceProperties"]
 
 _REQUIRED = object()
 
@@ -140,6 +146,31 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "gas_oil_ratio": (None, "number", "L/L", "oil: dissolved gas, litres of gas per litre of "
                           "oil, >= 0 (default 0: dead oil)"),
     },
+    "stack": {
+        "fluids": (["brine"], "strings", "",
+                   "a stack: the pore fluids of the reservoir layer, one member of the fluid "
+                   "dimension each: 'brine' (that of [fluid] model) and the hydrocarbons of "
+                   "fluid.hydrocarbon ('gas', 'oil', 'co2', 'methane') at fluid.saturation, "
+                   "at every depth"),
+        "reservoir": (None, "string", "",
+                      "a stack: the name of the layer whose pores hold the fluids (required "
+                      "with a hydrocarbon among fluids); every other layer holds brine"),
+    },
+    "layers": {
+        "name": (_REQUIRED, "string", "", "a stack ([[layers]], top to bottom): the layer's "
+                 "name (letters, digits, '_' and '-'; unique)"),
+        "scene": (None, "string", "", "a shipped scene's name or a scene file (relative to "
+                  "the stack's file) whose lithology, lithology section, [materials] and "
+                  "[models] the layer takes; its path, pressure, fluid and sweep are replaced "
+                  "by the stack's"),
+        "lithology": (None, "string", "", "'sandstone' or 'shale' (required without scene)"),
+        "thickness": (None, "number", "m", "thickness in the synthetic column (every layer "
+                      "but the last, which fills the column to the deepest depth)"),
+        "stand_in": (None, "string", "", "one of the layer's models that gives its side of "
+                     "the interfaces for a model another layer has and it lacks"),
+        "outputs": (None, "strings", "", "the layer's variables (default: all for its "
+                    "lithology; vp, vs and density always)"),
+    },
     "models.hs_gassmann": {
         "A": (3.0, "number", "", "Krief exponent"),
     },
@@ -221,6 +252,8 @@ CALIBRATED_MODELS = ("patchy_cement",)
 
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "fluid", "models",
                  "sweep"}
+#: Sections of a stack scene only (rockcem._scene_stack).
+STACK_SECTIONS = ("stack", "layers")
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
 #: Variables that depend on the petro-elastic model (dimension ``model``).
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
@@ -261,6 +294,9 @@ class Scene:
     description: str = ""
     base_dir: str | None = None
     calibrations: dict = field(default_factory=dict)
+    #: A stack ([[layers]]; lithology "stack"): its layers, top to bottom
+    #: (:class:`rockcem._scene_stack.StackLayer`); empty for a single-lithology scene.
+    layers: tuple = ()
 
     def replace(self, **params) -> Scene:
         """A copy with parameters changed, keys as ``"section.key"`` (``"path.gradient"``); the
@@ -351,6 +387,13 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
     """
     if not isinstance(raw, dict):
         raise ValueError("a scene must be a table of keys")
+    if "layers" in raw:                 # a stack of lithologies on one path
+        from ._scene_stack import stack_scene_from_dict
+
+        return stack_scene_from_dict(raw, text=text, base_dir=base_dir)
+    if "stack" in raw:
+        raise ValueError("scene section [stack] applies to a stack of layers: give them as "
+                         "[[layers]] (or remove [stack])")
     scene_cal, original = None, raw
     if raw.get("calibration") is not None:
         from .calibrate import apply_scene_calibration
@@ -602,14 +645,19 @@ def _validate_sweep(sweep, sections):
 
 
 def _to_toml(raw: dict) -> str:
-    """Minimal TOML writer for scene dicts (scalars, lists, nested tables)."""
-    lines = [f"{k} = {toml_value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
+    """Minimal TOML writer for scene dicts (scalars, lists, nested tables, and a stack's
+    ``[[layers]]``: a top-level list of tables, each followed by its sub-tables)."""
+    def tables(v):
+        return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
 
-    def table(prefix, d):
+    lines = [f"{k} = {toml_value(v)}" for k, v in raw.items()
+             if not isinstance(v, dict) and not tables(v)]
+
+    def table(prefix, d, header=None):
         scal = [f"{json.dumps(k) if '.' in k else k} = {toml_value(v)}" for k, v in d.items()
                 if not isinstance(v, dict)]
-        if scal or not any(isinstance(v, dict) for v in d.values()):
-            lines.extend(["", f"[{prefix}]", *scal])
+        if header or scal or not any(isinstance(v, dict) for v in d.values()):
+            lines.extend(["", header or f"[{prefix}]", *scal])
         for k, v in d.items():
             if isinstance(v, dict):
                 table(f"{prefix}.{k}", v)
@@ -617,6 +665,9 @@ def _to_toml(raw: dict) -> str:
     for k, v in raw.items():
         if isinstance(v, dict):
             table(k, v)
+        elif tables(v):
+            for item in v:
+                table(k, item, header=f"[[{k}]]")
     return "\n".join(lines) + "\n"
 
 
