@@ -154,7 +154,8 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     key (``layers[1].thickness``, with the closest valid name for a typo).
     """
     from ._atomic import check_scene_name
-    from .scene import SCHEMA, Scene, _check_fluid, _section, _suggest, _to_toml
+    from .scene import SCHEMA, Scene, _check_fluid, _check_path_kind, _section, _suggest, \
+        _to_toml
 
     for key in raw:
         if key in _NOT_AT_TOP:
@@ -167,6 +168,9 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     if head["output"] is not None and not head["output"].strip():
         _fail("scene key output must name a file (leave it out for <name>.nc); got "
               f"{head['output']!r}")
+    path = _section("path", raw.get("path", {}), SCHEMA["path"])    # once, for every layer
+    _section("pressure", raw.get("pressure", {}), SCHEMA["pressure"])
+    _check_path_kind(raw.get("path", {}), path, base_dir)
     stack = _section("stack", raw.get("stack", {}), SCHEMA["stack"])
     fluids = stack["fluids"]
     if not fluids:
@@ -210,7 +214,7 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
               f"of the layer whose pores hold them (one of {', '.join(names)})")
     if reservoir is not None and reservoir not in names:
         _fail(f"scene key stack.reservoir: no layer {reservoir!r}{_suggest(reservoir, names)}")
-    _check_thickness(specs, raw.get("path", {}))
+    _check_thickness(specs, path)
     fluid_defaults = _default_fluid_outputs(fluid, carbons) if "fluid" in raw else ()
     layers = []
     for spec in specs:
@@ -346,12 +350,10 @@ def _check_thickness(specs, path):
     if given[-1]:
         _fail(f"scene key {specs[-1]['where']}.thickness: the last layer fills the column to "
               "the deepest depth; remove its thickness")
-    from .scene import SCHEMA
-
     top = sum(s["thickness"] for s in specs[:-1])
-    if path.get("kind", "linear") == "linear":
-        deepest = path.get("max_depth", SCHEMA["path"]["max_depth"][0])
-        if isinstance(deepest, (int, float)) and top >= deepest:
+    if path["kind"] == "linear":
+        deepest = path["max_depth"]
+        if top >= deepest:
             _fail(f"scene keys layers.thickness: the layers above the last reach {top:g} m, "
                   f"at or below path.max_depth ({deepest:g} m): the last layer holds no depth")
 

@@ -241,6 +241,10 @@ def _without(i, key):
 
 
 BAD = [
+    (stack(path={**PATH, "gradent": 30.0}), r"^unknown scene key path.gradent; did you mean "
+                                             r"'gradient'"),
+    (stack(pressure={"water_density": "1"}), r"^scene key pressure.water_density must be a "
+                                             r"number"),
     (stack(lithology="shale"), r"scene key 'lithology' does not apply to a stack"),
     (stack(sweep={"path.gradient": [20.0, 30.0]}), r"'sweep' does not apply to a stack"),
     (stack(models={}), r"'models' does not apply to a stack.*\[layers.models"),
