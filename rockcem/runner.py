@@ -319,7 +319,7 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     from .variables import build_dataset
 
     if scene.layers:                    # a stack of lithologies (rockcem._scene_stack)
-        from ._scene_stack import evaluate_stack
+        from ._stack_dataset import evaluate_stack
 
         return evaluate_stack(scene)
     pipe = _Pipeline(scene, scheduler=scheduler, jobs=jobs, progress=progress)

@@ -16,8 +16,9 @@ horizons' present-day depths) or ``"nodes"`` (one history every depth follows); 
 file (``table``) or inline arrays, see :mod:`rockcem.histories`.
 
 Stacks: a scene with ``[[layers]]`` (and ``[stack]``) is several lithologies buried by one
-path, a seal over a reservoir; :mod:`rockcem._scene_stack` describes its keys and Dataset, and
-:func:`interface_properties` gives both sides of its interfaces.
+path, a seal over a reservoir; :mod:`rockcem._scene_stack` describes its keys,
+:mod:`rockcem._stack_dataset` its Dataset, and :func:`interface_properties` gives both sides
+of its interfaces.
 
 Scene calibrations: a top-level ``calibration = "<file>"`` names a calibration file with
 ``model = "scene"`` (written by ``rockcem fit``, :mod:`rockcem.wellfit`) whose ``[parameters]``
@@ -45,7 +46,7 @@ import numpy as np
 
 from ._atomic import check_scene_name
 from ._data import data_path
-from ._scene_stack import InterfaceProperties, interface_properties
+from ._stack_dataset import InterfaceProperties, interface_properties
 from ._toml import toml_text, toml_value
 from .variables import sweep_dimension
 
@@ -252,8 +253,6 @@ CALIBRATED_MODELS = ("patchy_cement",)
 
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "fluid", "models",
                  "sweep"}
-#: Sections of a stack scene only (rockcem._scene_stack).
-STACK_SECTIONS = ("stack", "layers")
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
 #: Variables that depend on the petro-elastic model (dimension ``model``).
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
