@@ -196,10 +196,15 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
         _fail(f"scene key stack.reservoir: no layer {reservoir!r}{_suggest(reservoir, names)}")
     _check_thickness(specs, path)
     fluid_defaults = _default_fluid_outputs(fluid, carbons) if "fluid" in raw else ()
+    shared = {sec: dict(raw[sec]) for sec in ("path", "pressure") if sec in raw}
+    if isinstance(shared.get("path", {}).get("table"), str):
+        from .histories import _resolve         # relative to the stack's file, not a layer's
+
+        shared["path"]["table"] = str(_resolve(shared["path"]["table"], base_dir))
     layers = []
     for spec in specs:
         members = fluids if spec["name"] == reservoir else ["brine"]
-        scenes = {f: _layer_scene(spec, raw, head["name"], given_fluid, f, fluid_defaults)
+        scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults)
                   for f in members}
         layers.append(StackLayer(spec["name"], spec["lithology"], spec["thickness"],
                                  spec["stand_in"], scenes))
@@ -338,8 +343,9 @@ def _check_thickness(specs, path):
                   f"at or below path.max_depth ({deepest:g} m): the last layer holds no depth")
 
 
-def _layer_scene(spec, raw, stack_name, given_fluid, member, fluid_defaults):
-    """The plain scene of a layer with one pore fluid (``member``: 'brine' or a hydrocarbon)."""
+def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults):
+    """The plain scene of a layer with one pore fluid (``member``: 'brine' or a hydrocarbon),
+    on the stack's ``shared`` [path] and [pressure]."""
     from .scene import MODEL_OUTPUTS, STATE_OUTPUTS, scene_from_dict
     from .validation import prefixed_errors
 
@@ -349,9 +355,7 @@ def _layer_scene(spec, raw, stack_name, given_fluid, member, fluid_defaults):
     outputs += [v for v in ("vp", "vs", "density") if v not in outputs]
     layer = {"name": f"{stack_name}_{spec['name']}", "lithology": lith,
              "outputs": outputs, **spec["sections"]}
-    for sec in ("path", "pressure"):
-        if sec in raw:
-            layer[sec] = raw[sec]
+    layer.update(shared)
     if given_fluid or member != "brine":
         layer["fluid"] = _member_fluid(given_fluid, member)
     what = f"layer {spec['name']!r}" + (f" with {member}" if member != "brine" else "")

@@ -195,6 +195,37 @@ def test_no_thickness_no_column():
     assert "column_vp" not in ds and "interface" in ds.dims
 
 
+def test_a_stack_on_a_table_of_horizons(tmp_path):
+    """The stack's path table is read beside the stack's file (not beside a layer's scene);
+    the depth axis is the horizons', each layer equal to its lithology run alone there."""
+    import shutil
+
+    from rockcem._data import data_path
+    from rockcem.scene import load_scene
+
+    shutil.copy(data_path("wells") / "synthetic_basin_history.csv", tmp_path / "history.csv")
+    text = (
+        'name = "horizons_stack"\n[path]\nkind = "horizons"\ntable = "history.csv"\n'
+        '[[layers]]\nname = "seal"\nscene = "carcione2022_shale"\n'
+        '[[layers]]\nname = "sand"\nscene = "synthetic_basin_horizons"\n'
+        'stand_in = "hs_gassmann"\n[layers.models.hs_gassmann]\n')
+    (tmp_path / "stack.toml").write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = run_scene(load_scene(tmp_path / "stack.toml"))
+        raw, _ = read_scene_toml("synthetic_basin_horizons")
+        raw = {**raw, "models": {"hs_gassmann": {}}}
+        raw["path"] = {"kind": "horizons", "table": str(tmp_path / "history.csv")}
+        ref = run_scene(scene_from_dict(raw))
+    assert list(ds.model.values) == ["hs_gassmann", "self_consistent", "generalized_gassmann"]
+    np.testing.assert_array_equal(ds.depth, ref.depth)
+    np.testing.assert_array_equal(ds.horizon, ref.horizon)
+    np.testing.assert_allclose(ds.vp.sel(layer="sand", fluid="brine", model="hs_gassmann"),
+                               ref.vp.sel(model="hs_gassmann"), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(ds.cement_fraction.sel(layer="sand"), ref.cement_fraction,
+                               rtol=1e-12, atol=0)
+
+
 # --- the scene text -----------------------------------------------------------------------------
 def test_a_stack_scene_round_trips_through_its_text():
     scene = scene_from_dict(stack())
