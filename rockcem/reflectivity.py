@@ -67,8 +67,9 @@ AVO_THRESHOLD = 0.03
 #: Largest velocity accepted, km/s: above any rock's (diamond: 18 km/s), below a velocity in m/s.
 MAX_VELOCITY = 25.0
 
-#: Elements per block of the exact solution (bounds its temporary arrays: 16 of them, 1 MiB each).
-_BLOCK = 1 << 16
+#: Elements per block of the exact solution: its ~16 temporary arrays stay in the cache (256 KiB
+#: each), and the memory of a call is its result's (benchmarks/results/reflectivity_speed.md).
+_BLOCK = 1 << 14
 
 
 class AVOTerms(NamedTuple):
@@ -216,6 +217,12 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     positive imaginary part (see the module's conventions); the result is complex and finite.
     The same coefficient as the first element of :func:`zoeppritz_scattering` (a numerical
     solution of the 4x4 system), a few times faster.
+
+    Beyond the P critical angle :math:`|R_{PP}| < 1` in general: the transmitted P wave carries
+    no energy, but the reflected and (before its own critical angle) the transmitted S waves
+    do, so :math:`|R_{PP}|^2` is 1 less their energy fluxes (:func:`zoeppritz_scattering`);
+    only in the acoustic limit (both S velocities going to 0) does :math:`|R_{PP}| \to 1`, with
+    :math:`1 - |R_{PP}|` proportional to the S velocities.
 
     Parameters
     ----------

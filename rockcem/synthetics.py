@@ -107,7 +107,11 @@ def _twt(z, vp, datum_velocity):
                          low_open=True)
     slowness = 2.0 / (1000.0 * vp)                      # two-way s per m
     steps = 0.5 * (slowness[..., 1:] + slowness[..., :-1]) * np.diff(z, axis=-1)
-    t = np.empty(np.broadcast_shapes(z.shape, np.shape(vd) + (1,)))
+    try:
+        t = np.empty(np.broadcast_shapes(z.shape, np.shape(vd) + (1,)))
+    except ValueError:
+        raise ValueError(f"datum_velocity of shape {np.shape(vd)} does not broadcast against "
+                         f"the leading axes of the profile, {z.shape[:-1]}") from None
     t[..., 0] = 2.0 * z[..., 0] / (1000.0 * vd)
     t[..., 1:] = t[..., :1] + np.cumsum(steps, axis=-1)
     return t
