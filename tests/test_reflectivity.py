@@ -352,3 +352,14 @@ def test_xarray_inputs_give_a_dataarray_with_the_angle_last():
     terms = R.intercept_gradient(2.5, 1.2, 2.3, vp2, 1.5, 2.25)
     assert terms.gradient.dims == ("depth",)
     assert R.avo_class(terms.intercept, terms.gradient).dtype == np.int8
+
+
+def test_pandas_inputs_are_paired_by_label():
+    pd = pytest.importorskip("pandas")
+    vp2 = pd.Series([2.8, 3.0, 3.4], index=[1000.0, 2000.0, 3000.0])
+    rho2 = pd.Series([2.25, 2.2, 2.3], index=[1000.0, 2000.0, 3000.0])
+    shuffled = rho2.iloc[[2, 0, 1]]
+    r = R.shuey_pp(2.5, 1.2, 2.3, vp2, 1.5, shuffled, 20.0)
+    assert list(r.index) == [1000.0, 2000.0, 3000.0]
+    np.testing.assert_array_equal(r.to_numpy(), R.shuey_pp(2.5, 1.2, 2.3, vp2.to_numpy(), 1.5,
+                                                            rho2.to_numpy(), 20.0))
