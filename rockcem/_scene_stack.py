@@ -76,6 +76,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 
 __all__ = ["STACK_FLUIDS", "StackLayer", "stack_scene_from_dict"]
 
@@ -83,7 +85,7 @@ __all__ = ["STACK_FLUIDS", "StackLayer", "stack_scene_from_dict"]
 STACK_FLUIDS = ("brine", "gas", "oil", "co2", "methane")
 _LAYER_NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 _HEAD = ("name", "description", "output")
-_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "layers")
+_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "seismic", "layers")
 #: Keys of a plain scene that a stack does not take at its top level, and why.
 _NOT_AT_TOP = {
     "lithology": "each layer names its own ([[layers]] lithology or scene)",
@@ -214,6 +216,9 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
                                   for o in s.outputs))
     sections = {"path": first.sections["path"], "pressure": first.sections["pressure"],
                 "fluid": fluid, "stack": stack}
+    if "seismic" in raw:                # reflectivity, AVO and synthetics only when asked
+        sections["seismic"] = _check_seismic(_section("seismic", raw["seismic"],
+                                                      SCHEMA["seismic"]), specs)
     return Scene(head["name"], "stack", outputs, head["output"] or f"{head['name']}.nc",
                  models, sections, {}, text if text is not None else _to_toml(raw),
                  head["description"], None if base_dir is None else str(base_dir), {},
@@ -321,6 +326,33 @@ def _referenced(source, base_dir, where):
         _fail(f"scene key {where}: {source!r} has a scene calibration, which a stack does not "
               "apply; name a scene without one")
     return ref, path.parent
+
+
+def _check_seismic(seismic, specs):
+    """The ``[seismic]`` keys in their ranges; the threshold's default filled in."""
+    from .reflectivity import AVO_THRESHOLD
+
+    checks = (("max_angle", 0.0, 90.0, "in (0, 90) degrees"),
+              ("angle_step", 0.0, np.inf, "> 0 degrees"),
+              ("frequency", 0.0, np.inf, "> 0 Hz"))
+    for key, lo, hi, valid in checks:
+        value = seismic[key]
+        if not lo < value < hi:
+            _fail(f"scene key seismic.{key} must be {valid}; got {value:g}")
+    if seismic["angle_step"] > seismic["max_angle"]:
+        _fail(f"scene key seismic.angle_step ({seismic['angle_step']:g}) must not exceed "
+              f"seismic.max_angle ({seismic['max_angle']:g})")
+    if not 1e-5 <= seismic["dt"] <= 0.05:
+        _fail(f"scene key seismic.dt must lie in [1e-5, 0.05] s; got {seismic['dt']:g}")
+    if seismic["class_threshold"] is None:
+        seismic["class_threshold"] = AVO_THRESHOLD
+    elif not 0.0 < seismic["class_threshold"] < 1.0:
+        _fail("scene key seismic.class_threshold must lie in (0, 1); got "
+              f"{seismic['class_threshold']:g}")
+    if seismic["gather_depth"] is not None and specs[0]["thickness"] is None:
+        _fail("scene key seismic.gather_depth needs the synthetic column: give every layer "
+              "but the last a thickness")
+    return seismic
 
 
 def _check_thickness(specs, path):

@@ -157,6 +157,21 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                       "a stack: the name of the layer whose pores hold the fluids (required "
                       "with a hydrocarbon among fluids); every other layer holds brine"),
     },
+    "seismic": {
+        "max_angle": (40.0, "number", "degree", "a stack: largest angle of incidence of the "
+                      "reflectivity and the angle gather, in (0, 90)"),
+        "angle_step": (1.0, "number", "degree", "a stack: step of the angles of incidence from "
+                       "0, > 0"),
+        "class_threshold": (None, "number", "1", "a stack: largest |intercept| of a near-zero "
+                            "contrast (AVO classes IIp and II), in (0, 1) (default "
+                            "rockcem.reflectivity.AVO_THRESHOLD, 0.03)"),
+        "frequency": (25.0, "number", "Hz", "a stack: peak frequency of the Ricker wavelet of "
+                      "the synthetics, > 0"),
+        "dt": (0.002, "number", "s", "a stack: sample interval of the synthetics, in "
+               "[1e-5, 0.05]"),
+        "gather_depth": (None, "number", "m", "a stack with thicknesses: depth of the column's "
+                         "angle gather (default: the top of its second layer)"),
+    },
     "layers": {
         "name": (_REQUIRED, "string", "", "a stack ([[layers]], top to bottom): the layer's "
                  "name (letters, digits, '_' and '-'; unique)"),

@@ -1,0 +1,156 @@
+"""The seismic join of a stack scene (``[seismic]``; issue 31): reflectivity against angle,
+intercept, gradient and AVO class at every interface, depth, model and fluid, and the
+synthetics of the layered column.
+
+Private to the scene runner. The physics is :mod:`rockcem.reflectivity` (Zoeppritz 1919 in the
+form of Aki & Richards 1980, eq. 5.40; Shuey 1985; the classes of Rutherford & Williams 1989,
+Ross & Kinman 1995 and Castagna & Swan 1997) and :mod:`rockcem.synthetics` (depth to two-way
+time, Ricker 1953 wavelet, the convolutional model); this module only feeds them both sides of
+each interface (:func:`rockcem._stack_dataset.interface_properties`) and the column, and names
+the results.
+
+The interface is swept along depth (Avseth & Lehocki 2016): at depth ``z`` the upper layer's
+rock and the lower layer's rock are both the rock their burial models give at ``z``, as if the
+interface lay at ``z``. A depth where either side has no value (a model that is out of its
+range there) gets NaN, counted in the variable's ``missing_inputs`` attribute.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["add_seismic"]
+
+_SIDES = ("vp1", "vs1", "rho1", "vp2", "vs2", "rho2")
+
+
+def _angles(seismic):
+    step, top = seismic["angle_step"], seismic["max_angle"]
+    n = int(np.floor(top / step + 1e-9))
+    return np.round(np.arange(n + 1) * step, 12)
+
+
+def _valid(arrays):
+    """Where both sides hold a rock the reflectivity functions take (finite, positive, a
+    solid's S velocity)."""
+    ok = np.ones(arrays[0].shape, dtype=bool)
+    for a in arrays:
+        ok &= np.isfinite(a) & (a > 0)
+    return ok
+
+
+def add_seismic(ds, scene):
+    """Add the ``[seismic]`` variables of a stack to its Dataset ``ds`` (in place).
+
+    Variables (the contract of issue 31): ``reflectivity_pp`` and
+    ``reflectivity_pp_magnitude`` (interface, fluid, model, depth, angle), the real part and
+    modulus of the exact PP coefficient; ``avo_intercept``, ``avo_gradient``, ``avo_curvature``
+    and ``avo_class`` (interface, fluid, model, depth); with the synthetic column (thicknesses),
+    ``twt_of_depth`` (fluid, model, depth), ``synthetic`` (fluid, model, twt) at normal
+    incidence and ``angle_gather`` (fluid, model, angle, gather_twt) around ``gather_depth``.
+    """
+    import xarray as xr
+
+    from ._stack_dataset import interface_properties
+    from .reflectivity import AVO_CLASS_CODES, AVO_CLASSES, avo_class, intercept_gradient, \
+        zoeppritz_pp
+
+    seismic = scene.sections["seismic"]
+    angles = _angles(seismic)
+    sides = interface_properties(ds)
+    arrays = [np.asarray(getattr(sides, n).values, dtype=float) for n in _SIDES]
+    ok = _valid(arrays)
+    missing = int(np.count_nonzero(~ok))
+    picked = [a[ok] for a in arrays]
+    dims = ("interface", "fluid", "model", "depth")
+    shape = ok.shape
+
+    r = np.full(shape + (angles.size,), np.nan + 0j)
+    r[ok] = zoeppritz_pp(*(p[:, None] for p in picked), angles[None, :])
+    terms = intercept_gradient(*picked)
+    ds.coords["angle"] = ("angle", angles, {"units": "degree",
+                                            "long_name": "angle of incidence"})
+    note = (f"{missing} of {ok.size} interface samples have no rock on one side (NaN)"
+            if missing else "every interface sample computed")
+    common = {"missing_inputs": note}
+    ds["reflectivity_pp"] = xr.Variable(
+        dims + ("angle",), r.real,
+        {"units": "1", "long_name": "PP reflection coefficient (real part), exact Zoeppritz",
+         "references": "Zoeppritz (1919); Aki & Richards (1980), eq. 5.40", **common})
+    ds["reflectivity_pp_magnitude"] = xr.Variable(
+        dims + ("angle",), np.abs(r),
+        {"units": "1", "long_name": "modulus of the PP reflection coefficient, exact "
+         "Zoeppritz (equal to |real part| before any critical angle)", **common})
+    for name, values, what in (("avo_intercept", terms.intercept, "intercept A"),
+                               ("avo_gradient", terms.gradient, "gradient B"),
+                               ("avo_curvature", terms.curvature, "curvature C")):
+        full = np.full(shape, np.nan)
+        full[ok] = values
+        ds[name] = xr.Variable(dims, full, {
+            "units": "1", "long_name": f"AVO {what} (Shuey 1985, of the Aki-Richards "
+            "linearisation)", "references": "Shuey (1985); Aki & Richards (1980), eq. 5.44",
+            **common})
+    codes = np.zeros(shape, dtype=np.int8)
+    codes[ok] = avo_class(terms.intercept, terms.gradient,
+                          threshold=seismic["class_threshold"])
+    ds["avo_class"] = xr.Variable(dims, codes, {
+        "long_name": "AVO class of the interface (Rutherford & Williams 1989; Ross & Kinman "
+        "1995; Castagna & Swan 1997)",
+        "flag_values": np.array(AVO_CLASS_CODES, dtype=np.int8),
+        "flag_meanings": " ".join(AVO_CLASSES),
+        "class_threshold": float(seismic["class_threshold"]),
+        "comment": "0: no class (no contrast, A >= 0 with B >= 0, or no rock on one side)",
+        **common})
+    if "column_vp" in ds:
+        _add_synthetics(ds, seismic, angles)
+    return ds
+
+
+def _add_synthetics(ds, seismic, angles):
+    """Normal-incidence synthetic of the column per fluid and model, its depth-to-time
+    relation, and the angle gather around ``gather_depth``."""
+    import xarray as xr
+
+    from .synthetics import angle_gather, depth_to_twt, synthetic_trace
+
+    depth = ds["depth"].values
+    vp = ds["column_vp"].transpose("fluid", "model", "depth").values
+    vs = ds["column_vs"].transpose("fluid", "model", "depth").values
+    rho = ds["column_density"].transpose("fluid", "model", "depth").values
+    good = np.all(np.isfinite(vp) & np.isfinite(vs) & np.isfinite(rho), axis=-1)
+    dt, f = seismic["dt"], seismic["frequency"]
+    twt = np.full(vp.shape, np.nan)
+    twt[good] = depth_to_twt(depth, vp[good])
+    ds["twt_of_depth"] = xr.Variable(("fluid", "model", "depth"), twt, {
+        "units": "s", "long_name": "two-way time of the depth in the synthetic column, from "
+        "its own P velocity"})
+    if not good.any():
+        return
+    s = synthetic_trace(depth, vp[good], vs[good], rho[good], dt=dt, wavelet=f)
+    trace = np.full(vp.shape[:2] + (s.twt.size,), np.nan)
+    trace[good] = s.trace
+    ds.coords["twt"] = ("twt", s.twt, {"units": "s", "long_name": "two-way time"})
+    ds["synthetic"] = xr.Variable(("fluid", "model", "twt"), trace, {
+        "units": "1", "long_name": f"normal-incidence synthetic of the column, Ricker "
+        f"{f:g} Hz (convolutional model: primaries, no transmission losses)",
+        "references": "Ricker (1953); Yilmaz (2001), sect. 2.1"})
+    at = seismic["gather_depth"]
+    if at is None:
+        at = float(_layer_tops(ds)[0])
+    g = angle_gather(depth, vp[good], vs[good], rho[good], at=at, angles=angles, dt=dt,
+                     wavelet=f)
+    gather = np.full(vp.shape[:2] + (angles.size, g.twt.size), np.nan)
+    gather[good] = g.gather
+    ds.coords["gather_twt"] = ("gather_twt", g.twt, {"units": "s",
+                                                     "long_name": "two-way time of the gather"})
+    ds["angle_gather"] = xr.Variable(("fluid", "model", "angle", "gather_twt"), gather, {
+        "units": "1", "long_name": f"angle gather of the column around {at:g} m (exact PP "
+        f"coefficient at each angle, Ricker {f:g} Hz, no moveout)", "gather_depth": at})
+
+
+def _layer_tops(ds):
+    """The depths where each layer of the column after the first begins (``column_layer``)."""
+    names = ds["column_layer"].values
+    depth = ds["depth"].values
+    change = np.flatnonzero(names[1:] != names[:-1]) + 1
+    return depth[change]

@@ -1,0 +1,166 @@
+"""The seismic join of a stack scene ([seismic]; issue 31): each variable against values
+computed here from the layers' own profiles by closed forms."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.integrate import cumulative_trapezoid
+
+from rockcem.scene import run_scene, scene_from_dict, write_dataset
+
+pytestmark = pytest.mark.filterwarnings("ignore::UserWarning")
+
+
+def _raw(seismic=None, thickness=True, fluids=("brine", "gas")):
+    raw = {
+        "name": "seal_over_sand",
+        "path": {"gradient": 30.0, "sedimentation_rate": 40.0, "surface_temperature": 15.0,
+                 "max_depth": 4000.0, "depth_step": 50.0},
+        "stack": {"fluids": list(fluids), "reservoir": "reservoir"},
+        "fluid": {"model": "batzle_wang", "salinity": 0.05, "saturation": 0.8},
+        "layers": [
+            {"name": "seal", "scene": "carcione2022_shale", "stand_in": "generalized_gassmann"},
+            {"name": "reservoir", "scene": "carcione2022_sandstone"},
+        ],
+    }
+    if fluids == ("brine",):
+        del raw["fluid"]["saturation"]
+    if thickness:
+        raw["layers"][0]["thickness"] = 2000.0
+    if seismic is not None:
+        raw["seismic"] = seismic
+    return raw
+
+
+@pytest.fixture(scope="module")
+def ds():
+    return run_scene(scene_from_dict(_raw({"max_angle": 30.0, "angle_step": 5.0,
+                                           "frequency": 20.0, "dt": 0.002})))
+
+
+def _side(ds, layer, name, fluid, model):
+    """A layer's value of ``name`` with the model pairing of the stack."""
+    m = str(ds["model_of_layer"].sel(layer=layer, model=model).values)
+    var = ds[name].sel(layer=layer)
+    if "fluid" in var.dims:
+        var = var.sel(fluid=fluid)
+    if "model" in var.dims:
+        var = var.sel(model=m)
+    return var.values
+
+
+def test_normal_incidence_is_the_impedance_contrast(ds):
+    for fluid in ("brine", "gas"):
+        for model in ds["model"].values:
+            z1 = _side(ds, "seal", "vp", fluid, model) * _side(ds, "seal", "density", fluid,
+                                                                  model)
+            z2 = (_side(ds, "reservoir", "vp", fluid, model)
+                  * _side(ds, "reservoir", "density", fluid, model))
+            r0 = ds["reflectivity_pp"].sel(interface="seal/reservoir", fluid=fluid,
+                                           model=model, angle=0.0).values
+            ok = np.isfinite(z1) & np.isfinite(z2)
+            assert ok.sum() > 10
+            np.testing.assert_allclose(r0[ok], ((z2 - z1) / (z2 + z1))[ok], rtol=0,
+                                       atol=1e-13)
+
+
+def test_intercept_gradient_and_class_follow_shuey_by_hand(ds):
+    fluid, model = "gas", "patchy_cement"
+    vp1, vs1, r1 = (_side(ds, "seal", n, fluid, model) for n in ("vp", "vs", "density"))
+    vp2, vs2, r2 = (_side(ds, "reservoir", n, fluid, model) for n in ("vp", "vs", "density"))
+    vp, vs, rho = (vp1 + vp2) / 2, (vs1 + vs2) / 2, (r1 + r2) / 2
+    dvp, dvs, drho = vp2 - vp1, vs2 - vs1, r2 - r1
+    a = 0.5 * (dvp / vp + drho / rho)                                   # Shuey (1985)
+    b = 0.5 * dvp / vp - 2 * (vs / vp) ** 2 * (drho / rho + 2 * dvs / vs)
+    sel = dict(interface="seal/reservoir", fluid=fluid, model=model)
+    np.testing.assert_allclose(ds["avo_intercept"].sel(**sel).values, a, atol=1e-13)
+    np.testing.assert_allclose(ds["avo_gradient"].sel(**sel).values, b, atol=1e-13)
+    t = ds["avo_class"].attrs["class_threshold"]
+    want = np.select([(b < 0) & (a >= t), (b < 0) & (a >= 0), (b < 0) & (a > -t), b < 0,
+                      a < 0], [1, 2, 3, 4, 5], 0)
+    np.testing.assert_array_equal(ds["avo_class"].sel(**sel).values, want)
+    assert ds["avo_class"].attrs["flag_meanings"] == "I IIp II III IV"
+    np.testing.assert_array_equal(ds["avo_class"].attrs["flag_values"], [1, 2, 3, 4, 5])
+
+
+def test_angles_and_magnitude(ds):
+    np.testing.assert_array_equal(ds["angle"].values, [0, 5, 10, 15, 20, 25, 30])
+    r = ds["reflectivity_pp"]
+    np.testing.assert_array_less(np.abs(r.values) - 1e-15, ds["reflectivity_pp_magnitude"])
+    assert np.isfinite(ds["reflectivity_pp_magnitude"].values).all()
+
+
+def test_twt_is_twice_the_integral_of_the_slowness(ds):
+    depth = ds["depth"].values
+    vp = ds["column_vp"].sel(fluid="brine", model="hs_gassmann").values
+    want = 2 * cumulative_trapezoid(1.0 / (1000.0 * vp), depth, initial=0.0)
+    np.testing.assert_allclose(ds["twt_of_depth"].sel(fluid="brine", model="hs_gassmann"),
+                               want, rtol=1e-12, atol=1e-15)
+
+
+def test_synthetic_peaks_at_the_seal_base(ds):
+    """The column's one step (the seal's base at 2000 m) is by far its largest contrast: the
+    trace's largest excursion lies within one sample of its time, with the step's sign."""
+    sel = dict(fluid="brine", model="hs_gassmann")
+    depth = ds["depth"].values
+    k = np.searchsorted(depth, 2000.0)                  # first reservoir sample
+    twt = ds["twt_of_depth"].sel(**sel).values
+    t_step = 0.5 * (twt[k - 1] + twt[k])
+    vp, rho = (ds[f"column_{n}"].sel(**sel).values for n in ("vp", "density"))
+    r = (vp[k] * rho[k] - vp[k - 1] * rho[k - 1]) / (vp[k] * rho[k] + vp[k - 1] * rho[k - 1])
+    trace = ds["synthetic"].sel(**sel)
+    peak = int(np.argmax(np.abs(trace.values)))
+    assert abs(float(ds["twt"][peak]) - t_step) <= 0.002 + 1e-12
+    assert np.sign(trace.values[peak]) == np.sign(r)
+    gather = ds["angle_gather"].sel(**sel)
+    assert gather.attrs["gather_depth"] == 2000.0
+    assert float(ds["gather_twt"].min()) < t_step < float(ds["gather_twt"].max())
+
+
+def test_file_round_trip(ds, tmp_path):
+    import xarray as xr
+
+    path = write_dataset(ds, tmp_path / "stack.nc")
+    with xr.open_dataset(path) as back:
+        np.testing.assert_array_equal(back["avo_class"].values, ds["avo_class"].values)
+        assert back["avo_class"].attrs["flag_meanings"] == "I IIp II III IV"
+
+
+def test_no_seismic_section_computes_and_imports_none():
+    code = ("import sys, warnings; warnings.simplefilter('ignore')\n"
+            "from rockcem.scene import run_scene, scene_from_dict\n"
+            "import tests.test_stack_seismic as t\n"
+            "ds = run_scene(scene_from_dict(t._raw()))\n"
+            "assert 'reflectivity_pp' not in ds and 'synthetic' not in ds\n"
+            "assert 'rockcem.reflectivity' not in sys.modules\n"
+            "assert 'rockcem.synthetics' not in sys.modules\n")
+    import pathlib
+    root = pathlib.Path(__file__).resolve().parents[1]
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=root)
+
+
+def test_without_column_no_synthetics():
+    ds = run_scene(scene_from_dict(_raw({"max_angle": 10.0}, thickness=False,
+                                        fluids=("brine",))))
+    assert "avo_class" in ds and "synthetic" not in ds and "twt" not in ds.coords
+
+
+@pytest.mark.parametrize("seismic, match", [
+    ({"max_angle": 90.0}, r"seismic.max_angle must be in \(0, 90\)"),
+    ({"angle_step": 0.0}, r"seismic.angle_step must be > 0"),
+    ({"angle_step": 50.0}, r"seismic.angle_step \(50\) must not exceed"),
+    ({"frequency": -5.0}, r"seismic.frequency must be > 0"),
+    ({"dt": 0.5}, r"seismic.dt must lie in"),
+    ({"class_threshold": 1.5}, r"seismic.class_threshold must lie in \(0, 1\)"),
+    ({"max_angel": 30.0}, r"max_angel"),
+])
+def test_bad_keys_named(seismic, match):
+    with pytest.raises(ValueError, match=match):
+        scene_from_dict(_raw(seismic))
+
+
+def test_gather_depth_needs_the_column():
+    with pytest.raises(ValueError, match="gather_depth needs the synthetic column"):
+        scene_from_dict(_raw({"gather_depth": 1000.0}, thickness=False))
