@@ -74,7 +74,12 @@ def _compare(args) -> int:
 
     from .wells import well_misfit
 
+    if args.interface is not None and args.intervals is not None:
+        raise ValueError("--interface and --intervals do not go together: compare the AVO of "
+                         "one interface, or the logs per interval")
     well = _well(args)                        # a bad log fails before the scene runs
+    if args.interface is not None:
+        return _compare_interface(args, well)
     ds = _scene_dataset(args.scene)
     sweeps = [d for d in ds.dims if d not in ("depth", "model")]
     if sweeps:
@@ -104,6 +109,32 @@ def _compare(args) -> int:
         depths = {c: "{:g}".format for c in ("top", "base") if c in table.columns}
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4f}",
                               formatters=depths))
+    return 0
+
+
+def _compare_interface(args, well) -> int:
+    """``compare --interface DEPTH``: the well's AVO terms at an interface beside a stack
+    scene's at the same depth."""
+    import pandas as pd
+
+    from ._well_avo import model_interface_table, well_interface_avo
+
+    try:
+        w = well_interface_avo(well, args.interface, window=args.window)
+    except ValueError as exc:
+        raise ValueError(f"--interface {args.interface:g}: {exc}") from None
+    ds = _scene_dataset(args.scene)
+    table = model_interface_table(ds, args.interface)
+    name = well.attrs.get("well") or Path(args.well).name
+    print(f"AVO of the interface at {w.depth:g} m: {name} (means over {w.window:g} m above and "
+          f"below; {w.n_above} and {w.n_below} samples) beside "
+          f"{ds.attrs.get('scene_name', args.scene)} at {float(table['depth'].iloc[0]):g} m")
+    print(f"well: vp {w.vp1:.3f} over {w.vp2:.3f} km/s, vs {w.vs1:.3f} over {w.vs2:.3f} km/s, "
+          f"density {w.rho1:.3f} over {w.rho2:.3f} g/cm3: A {w.intercept:.4f}, "
+          f"B {w.gradient:.4f}, class {w.avo_class}")
+    with pd.option_context("display.width", 140, "display.max_rows", 500):
+        print(table.drop(columns="depth").to_string(
+            index=False, float_format=lambda v: f"{v:.4f}"))
     return 0
 
 
@@ -228,6 +259,12 @@ def add_commands(sub):
     add_well_options(p, required=True)
     p.add_argument("--intervals", type=float, nargs="+", metavar="DEPTH",
                    help="interval boundaries in m (default: one interval over the overlap)")
+    p.add_argument("--interface", type=float, metavar="DEPTH",
+                   help="a stack scene's AVO: the well's intercept, gradient and class at the "
+                   "interface at DEPTH m (log means over --window above and below) beside the "
+                   "scene's at that depth")
+    p.add_argument("--window", type=float, default=20.0, metavar="M",
+                   help="with --interface: length of each averaging window, m (default 20)")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no read report (what was read and blanked is then warned on stderr)")
     p.set_defaults(func=_compare)

@@ -164,3 +164,52 @@ def test_bad_keys_named(seismic, match):
 def test_gather_depth_needs_the_column():
     with pytest.raises(ValueError, match="gather_depth needs the synthetic column"):
         scene_from_dict(_raw({"gather_depth": 1000.0}, thickness=False))
+
+
+def _step_well(tmp_path, z_step=2000.0):
+    z = np.arange(1800.0, 2200.0 + 1e-9, 5.0)
+    above = z < z_step
+    vp = np.where(above, 2.8, 3.2)
+    vs = np.where(above, 1.3, 1.9)
+    rho = np.where(above, 2.35, 2.2)
+    path = tmp_path / "step.csv"
+    lines = ["DEPT (m),VP (km/s),VS (km/s),RHOB (g/cm3)"]
+    lines += [f"{a},{b},{c},{d}" for a, b, c, d in zip(z, vp, vs, rho)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_well_interface_by_hand(tmp_path):
+    from rockcem._well_avo import well_interface_avo
+    from rockcem.wells import read_well
+
+    well = read_well(_step_well(tmp_path))
+    w = well_interface_avo(well, 2000.0, window=50.0)
+    np.testing.assert_allclose([w.vp1, w.vs1, w.rho1, w.vp2, w.vs2, w.rho2],
+                               [2.8, 1.3, 2.35, 3.2, 1.9, 2.2], rtol=1e-12)
+    assert (w.n_above, w.n_below) == (10, 10)               # 1950-1995 and 2005-2050
+    vp, vs, rho = 3.0, 1.6, 2.275
+    a = 0.5 * (0.4 / vp - 0.15 / rho)
+    b = 0.5 * 0.4 / vp - 2 * (vs / vp) ** 2 * (-0.15 / rho + 2 * 0.6 / vs)
+    assert w.intercept == pytest.approx(a, abs=1e-14)
+    assert w.gradient == pytest.approx(b, abs=1e-14)
+    assert a > 0.03 and b < 0 and w.avo_class == "I"      # A 0.034, B -0.66: class I
+    with pytest.raises(ValueError, match="window below the interface at 2200 m"):
+        well_interface_avo(well, 2200.0, window=50.0)
+    with pytest.raises(ValueError, match="window must be > 0"):
+        well_interface_avo(well, 2000.0, window=0.0)
+
+
+def test_compare_interface_cli(tmp_path, ds, capsys):
+    from rockcem.cli import main
+
+    nc = write_dataset(ds, tmp_path / "stack.nc")
+    well = _step_well(tmp_path)
+    assert main(["compare", str(nc), "--well", str(well), "--interface", "2000",
+                 "--window", "50", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert "AVO of the interface at 2000 m" in out and "class" in out
+    assert out.count("patchy_cement") == 2              # one row per fluid
+    assert main(["compare", str(nc), "--well", str(well), "--interface", "2000",
+                 "--intervals", "1900", "2100"]) == 2
+    assert "do not go together" in capsys.readouterr().err
