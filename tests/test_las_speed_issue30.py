@@ -198,3 +198,29 @@ def test_wide_las_reads_as_the_same_csv(tmp_path):
     np.testing.assert_array_equal(ds["depth"].values, depth)
     np.testing.assert_allclose(ds["vp"].values, 0.3048 / dt * 1e3, rtol=1e-15)
     np.testing.assert_array_equal(ds["density"].values, rho)
+
+
+def test_duplicate_rule_in_a_section_that_compares_without_case():
+    """A section with ``mnemonic_transforms`` (lasio's for ``mnemonic_case`` upper or lower)
+    finds ``a`` and ``A`` alike: both get a suffix, as lasio's own append gives them."""
+    def build():
+        section = lasio.SectionItems()
+        section.mnemonic_transforms = True
+        for m in ("a", "B", "A", "b", "c"):
+            section.append(lasio.HeaderItem(m))
+        return [i.mnemonic for i in section]
+
+    plain = build()
+    assert plain == ["a:1", "B:1", "A:2", "b:2", "c"]
+    with _fast_lasio():
+        assert build() == plain
+
+
+def test_fewer_data_columns_than_curves_read_as_lasio_reads_them(tmp_path):
+    """Rows of 3 values under 4 curves: lasio gives the fourth curve as NaN (and says so in its
+    log); so does the read in pieces."""
+    f = _plain_las(tmp_path / "short.las", ["1000 100 2.3\n", "1001 101 2.4\n"])
+    assert np.isnan(lasio.read(str(f)).curves[3].data).all()
+    dept, gr = _Las(f).columns([0, 3])
+    np.testing.assert_array_equal(dept, [1000.0, 1001.0])
+    assert gr.shape == (2,) and np.isnan(gr).all()
