@@ -276,9 +276,10 @@ class _Las:
         (space-delimited, ``#`` comments, every field a number) and sets its null to NaN in every
         curve but the first (lasio 0.32, ``reader.read_data_section_iterative_numpy_engine`` and
         ``LASFile.read``). ``numpy.loadtxt`` reads the same fields to the same numbers (both
-        through Python's float parsing) twenty times faster, and accepts a subset of the fields
-        ``genfromtxt`` accepts (not ``1_0``, not non-ASCII digits): a block it refuses, or with
-        another number of columns than the ~Curve section's, is left to lasio.
+        through CPython's correctly rounded float parsing) in a fraction of the time (0.03 s
+        against lasio's 0.8 s for 115 rows of 5000 curves here), and accepts a subset of the
+        fields ``genfromtxt`` accepts (not ``1_0``, not non-ASCII digits): a block it refuses,
+        or with another number of columns than the ~Curve section's, is left to lasio.
         """
         null = self.lasio_null
         if self.comma or not (null is None or isinstance(null, (int, float, np.number))

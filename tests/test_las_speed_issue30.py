@@ -138,6 +138,12 @@ ROWS = ["1000 100.5 2.30 45\n",
         "1003 nan 2.33 -999.250\n"]
 
 
+_rng = np.random.default_rng(30)
+RANDOM_ROWS = [" ".join(f"{v:.17g}" for v in (1000.0 + k, *(_rng.standard_normal(3)
+                                                        * 10.0 ** _rng.integers(-300, 300, 3))))
+               + "\n" for k in range(50)]
+
+
 @pytest.mark.parametrize("rows, null", [
     (ROWS, "-999.25"),
     (ROWS, "-9999"),                             # -999.25 is then a number like any other
@@ -146,6 +152,7 @@ ROWS = ["1000 100.5 2.30 45\n",
     (["1000 100 2.3 1_0\n", "1001 101 2.4 11\n"], "-999.25"),   # genfromtxt's 1_0 = 10
     (["1000 100 2.3\n", "45 1001 101 2.4 11\n"], "-999.25"),    # a row over two lines
     (["1000 100 2.3 45 9\n", "1001 101 2.4 11 9\n"], "-999.25"),  # a fifth column
+    (RANDOM_ROWS, "-999.25"),                    # 17 digits, exponents from -300 to 300
 ])
 def test_columns_are_lasios_numbers(tmp_path, rows, null):
     """Every curve of :meth:`_Las.columns` (the pieces read, by ``numpy.loadtxt`` where it can)
