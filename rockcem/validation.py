@@ -319,7 +319,8 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
       one's index (a NamedTuple of ``Series`` for a NamedTuple result).
     - **xarray**: ``DataArray`` are broadcast by dimension name, and aligned by coordinate label
       along a dimension they share; the result is a ``DataArray`` over the union of their
-      dimensions (in the order the arguments bring them), with their coordinates (a NamedTuple of ``DataArray`` for a NamedTuple result).
+      dimensions (in the order the arguments bring them), with their coordinates (a NamedTuple
+      of ``DataArray`` for a NamedTuple result).
     - **Phases** (the arguments named in ``phases``, phases on the last axis in numpy): a pandas
       ``DataFrame`` has one row per sample and one column per phase, a ``Series`` one entry per
       phase; a ``DataArray`` has its phases along its last dimension. Phase labels are aligned
