@@ -81,7 +81,7 @@ def stack(gather=False, threshold=0.02, meanings=None):
     traces = np.zeros((len(FLUIDS), len(MODELS), TWT.size))
     for f, fluid in enumerate(FLUIDS):
         for m in range(len(MODELS)):
-            traces[f, m] = a[0, f, m, 3] * ricker(TWT, 0.4) - 0.05 * ricker(TWT, 0.7)
+            traces[f, m] = a[0, f, m, 3] * ricker(TWT, 0.4) - 0.05 * (1 + f) * ricker(TWT, 0.7)
     data = {
         "avo_intercept": (dims, a, one), "avo_gradient": (dims, b, one),
         "avo_curvature": (dims, 0.5 * a, one), "avo_class": (dims, cls, flags),
@@ -228,7 +228,6 @@ def test_crossplot_class_regions_agree_with_the_classes_of_the_points():
             colour.setdefault(CLASS[fluid][k], set()).add(rgba)
     assert len(colour) == 5 and all(len(c) == 1 for c in colour.values())   # one per class
     assert len(set().union(*colour.values())) == 5                          # all different
-    assert region_colour(ax, 0.05, 0.05)[3] == 0.0       # A > 0, B > 0: no class, no shade
     labels = {t.get_gid(): t.get_text() for t in ax.texts}
     assert sorted(labels.values()) == sorted("I IIp II III IV".split())
     lines = by_gid(ax, "quadrants")
@@ -341,6 +340,17 @@ def test_cli_plot_avo_depths_and_selection(stack_file, drawn):
     assert cli.main(["plot", str(stack_file), "--kind", "avo", "--depth", "2500"]) == 0
     assert [ax.get_title() for ax in drawn[-1].axes] == [
         f"{f}, depth 2500 m" for f in ("Brine", "Gas", "CO₂")]
+
+
+@pytest.mark.parametrize("low, high, expected", [
+    (1000.0, 4500.0, [1000.0, 2000.0, 3000.0, 4000.0]),   # the whole kilometres
+    (0.0, 10000.0, [0.0, 3000.0, 7000.0, 10000.0]),       # 11 of them: 4 at indices 0 3 7 10
+    (1200.0, 1900.0, [1375.0, 1550.0, 1725.0]),           # none: the quartiles
+    (900.0, 1100.0, [950.0, 1000.0, 1050.0]),             # one: the quartiles
+])
+def test_cli_default_depths_of_the_angle_chart(low, high, expected):
+    ds = xr.Dataset(coords={"depth": np.linspace(low, high, 5)})
+    assert cli._avo_depths(ds) == pytest.approx(expected, abs=1e-9)
 
 
 def test_cli_plot_synthetic_writes_one_png(stack_file, capsys):
