@@ -22,7 +22,8 @@ __all__ = ["avo_class_depth", "intercept_gradient_crossplot", "reflectivity_angl
            "synthetic_section", "class_threshold"]
 
 #: Threshold on the intercept of the AVO classification when ``avo_class`` does not carry its
-#: own (attribute ``threshold``).
+#: own (attribute ``threshold``) and :mod:`rockcem.reflectivity` (whose ``AVO_THRESHOLD`` is
+#: then the default) is not installed.
 DEFAULT_THRESHOLD = 0.02
 #: The dimensions the AVO figures draw; any other must be reduced to one value first.
 _AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt")
@@ -121,7 +122,9 @@ def class_threshold(ds) -> float:
     """The intercept threshold of the AVO classification of ``ds``.
 
     The attribute ``threshold`` of ``ds["avo_class"]`` (the value the classification was
-    computed with), or :data:`DEFAULT_THRESHOLD` (0.02) where it has none.
+    computed with); where it has none, the default of the classification,
+    ``rockcem.reflectivity.AVO_THRESHOLD``, or :data:`DEFAULT_THRESHOLD` (0.02) where that
+    module is not installed.
 
     Parameters
     ----------
@@ -131,61 +134,64 @@ def class_threshold(ds) -> float:
     Returns
     -------
     float
-        The threshold (a reflection coefficient, dimensionless, >= 0).
+        The threshold (a reflection coefficient, dimensionless, in (0, 1)).
 
     Raises
     ------
     ValueError
-        If ``ds`` has no ``avo_class`` or its ``threshold`` is not a finite number >= 0.
+        If ``ds`` has no ``avo_class`` or its ``threshold`` is not a number in (0, 1).
 
     Examples
     --------
     >>> import xarray as xr
-    >>> class_threshold(xr.Dataset({"avo_class": ("depth", [1], {"threshold": 0.03})}))
-    0.03
-    >>> class_threshold(xr.Dataset({"avo_class": ("depth", [1])}))
-    0.02
+    >>> class_threshold(xr.Dataset({"avo_class": ("depth", [1], {"threshold": 0.025})}))
+    0.025
     """
     if "avo_class" not in ds.variables:
         raise ValueError("the Dataset has no avo_class: run a stack scene with [seismic]")
-    value = ds["avo_class"].attrs.get("threshold", DEFAULT_THRESHOLD)
+    try:
+        from ..reflectivity import AVO_THRESHOLD as default
+    except ImportError:
+        default = DEFAULT_THRESHOLD
+    value = ds["avo_class"].attrs.get("threshold", default)
     try:
         value = float(np.asarray(value).item())
     except (TypeError, ValueError):
         value = float("nan")
-    if not (np.isfinite(value) and value >= 0.0):
-        raise ValueError(f"avo_class's attribute threshold must be a finite number >= 0; got "
+    if not 0.0 < value < 1.0:
+        raise ValueError(f"avo_class's attribute threshold must be a number in (0, 1); got "
                          f"{ds['avo_class'].attrs.get('threshold')!r}")
     return value
 
 
 def _classify(intercept, gradient, threshold):
     """AVO class codes of intercept A and gradient B: :func:`rockcem.reflectivity.avo_class`
-    where that module exists, else the rule of Castagna & Swan (1997, Table 1) with Ross &
-    Kinman's (1995) class IIp, by a threshold ``t`` on A:
+    where that module exists, else its rule written again: the classes of Rutherford &
+    Williams (1989) with Ross & Kinman's (1995) IIp and Castagna & Swan's (1997) IV, placed in
+    the A-B plane as by Castagna & Swan (1997, Table 1), by a threshold ``t`` on A:
 
     ========  =================  ======
     class     intercept A        B
     ========  =================  ======
-    I (1)     A > t              B < 0
-    IIp (2)   0 < A <= t         B < 0
-    II (3)    -t <= A <= 0       B < 0
-    III (4)   A < -t             B < 0
-    IV (5)    A < -t             B >= 0
+    I (1)     A >= t             B < 0
+    IIp (2)   0 <= A < t         B < 0
+    II (3)    -t < A < 0         B < 0
+    III (4)   A <= -t            B < 0
+    IV (5)    A < 0              B >= 0
     ========  =================  ======
 
-    and 0 elsewhere (A >= -t with B >= 0: no class)."""
+    and 0 for A >= 0 with B >= 0 (no class)."""
     try:
         from ..reflectivity import avo_class
     except ImportError:
         A, B = np.asarray(intercept, dtype=float), np.asarray(gradient, dtype=float)
         code = np.zeros(np.broadcast(A, B).shape, dtype=np.int8)
         falling = B < 0.0
-        code[falling & (A > threshold)] = 1
-        code[falling & (A > 0.0) & (A <= threshold)] = 2
-        code[falling & (A >= -threshold) & (A <= 0.0)] = 3
-        code[falling & (A < -threshold)] = 4
-        code[~falling & (A < -threshold)] = 5
+        code[falling & (A >= threshold)] = 1
+        code[falling & (A >= 0.0) & (A < threshold)] = 2
+        code[falling & (A < 0.0) & (A > -threshold)] = 3
+        code[falling & (A <= -threshold)] = 4
+        code[~falling & (A < 0.0)] = 5
         return code
     return np.asarray(avo_class(intercept, gradient, threshold=threshold))
 
