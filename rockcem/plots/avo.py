@@ -34,6 +34,8 @@ _CLASS_COLOURS = ("#56B4E9", "#009E73", "#F0E442", "#E69F00", "#CC79A7", "#0072B
 _FLUID_MARKERS = {"brine": "o", "gas": "^", "co2": "s", "oil": "D", "methane": "v"}
 _EXTRA_MARKERS = ("P", "X", "*", "h")
 _FLUID_NAMES = {"co2": "CO₂", "brine": "brine", "gas": "gas", "oil": "oil"}
+#: The most depths of a trajectory the crossplot marks (coloured by depth); past it every k-th.
+_MARKED = 40
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -278,7 +280,8 @@ def avo_class_depth(ds, *, interface=None, fig=None):
     ds, held = _prepare(ds, ["avo_class"], "avo_class_depth")
     ds = _pick(ds, "interface", interface, "avo_class_depth")
     values, meanings = _class_scale(ds)
-    position = {v: k for k, v in enumerate(values)}
+    lookup = np.full(max(max(values), 0) + 1, np.nan)      # code -> its flag position
+    lookup[[v for v in values if v >= 0]] = [k for k, v in enumerate(values) if v >= 0]
     classes = ds["avo_class"].transpose("interface", "fluid", "model", "depth").values
     depth = np.asarray(ds["depth"].values, dtype=float)
     interfaces, fluids, models = (_names(ds, d) for d in ("interface", "fluid", "model"))
@@ -297,8 +300,10 @@ def avo_class_depth(ds, *, interface=None, fig=None):
                 ax = axes[r, c]
                 for i, model in enumerate(models):
                     code = classes[r, c, i].astype(float)
-                    x = np.array([position.get(int(k), np.nan) if np.isfinite(k) else np.nan
-                                  for k in code]) + (i - 0.5 * (len(models) - 1)) * step
+                    known = np.isfinite(code) & (code >= 0) & (code < lookup.size)
+                    x = np.full(code.shape, np.nan)
+                    x[known] = lookup[code[known].astype(int)]
+                    x += (i - 0.5 * (len(models) - 1)) * step
                     ax.plot(np.repeat(x, 2), np.repeat(edges, 2)[1:-1], linewidth=1.8,
                             solid_capstyle="butt", gid=f"class:{model}",
                             zorder=2.0 + 0.01 * i, **_model_line(model, i, len(models)))
@@ -401,19 +406,21 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
         axes = fig.subplots(1, len(interfaces), sharex=True, sharey=True, squeeze=False)[0]
         norm = plt.Normalize(float(depth.min()), float(depth.max()))
         cmap = plt.get_cmap("viridis_r")
-        few = depth.size <= 60
+        # every depth a marker up to _MARKED depths; past that every k-th (the line is whole)
+        every = max(1, -(-depth.size // _MARKED))
         for r, (ax, face) in enumerate(zip(axes, interfaces)):
             for f, fluid in enumerate(fluids):
                 for i, model in enumerate(models):
                     a, b = A[r, f, i], B[r, f, i]
                     ok = np.isfinite(a) & np.isfinite(b)
                     line = _model_line(model, i, len(models))
-                    ax.plot(a[ok], b[ok], color=line["color"], linewidth=0.8, alpha=0.7,
-                            zorder=2.0, gid=f"path:{fluid}:{model}")
-                    ax.scatter(a[ok], b[ok], c=depth[ok], cmap=cmap, norm=norm,
-                               marker=_fluid_marker(fluid, f), s=22 if few else 8,
-                               edgecolors=line["color"], linewidths=0.6 if few else 0.3,
-                               zorder=2.5, gid=f"trajectory:{fluid}:{model}")
+                    ax.plot(a[ok], b[ok], color=line["color"],
+                            linewidth=0.8 if every == 1 else 1.4, alpha=0.8, zorder=2.0,
+                            gid=f"path:{fluid}:{model}")
+                    k = np.flatnonzero(ok)[(i * every) // len(models)::every]
+                    ax.scatter(a[k], b[k], c=depth[k], cmap=cmap, norm=norm,
+                               marker=_fluid_marker(fluid, f), s=22, edgecolors=line["color"],
+                               linewidths=0.6, zorder=2.5, gid=f"trajectory:{fluid}:{model}")
             if len(interfaces) > 1 or interfaces[0]:
                 ax.set_title(face)
             ax.set_xlabel("Intercept A (–)")
@@ -423,7 +430,7 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
             ax.set_xlim(*limits[0])
             ax.set_ylim(*limits[1])
             ax.set_autoscale_on(False)
-            _class_regions(ax, limits, threshold, values, meanings)
+            _class_regions(ax, limits, threshold, values, meanings, A[r], B[r])
             ax.axhline(0.0, color=_INK, linewidth=0.8, zorder=1.5, gid="quadrants")
             ax.axvline(0.0, color=_INK, linewidth=0.8, zorder=1.5, gid="quadrants")
             ax.grid(False)
@@ -433,23 +440,21 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
                 ax.plot(x, trend * x, color=_INK, linestyle=(0, (4, 2)), linewidth=1.0,
                         zorder=1.8, gid="background_trend",
                         label=f"brine trend B = {trend:.3g} A")
-        # the legend in two rows: the fluids' markers, then the models' lines and the trend
+        # the fluids' markers above the panels, the models' lines and the trend below
         top = [Line2D([], [], linestyle="none", marker=_fluid_marker(fl, f),
                       markerfacecolor="0.75", markeredgecolor="0.25",
                       label=_fluid_text(fl) or "data") for f, fl in enumerate(fluids)]
-        bottom = [Line2D([], [], linewidth=1.2, **_model_line(m, i, len(models)))
+        bottom = [Line2D([], [], linewidth=1.4, **_model_line(m, i, len(models)))
                   for i, m in enumerate(models) if m]
         if any(ln.get_gid() == "background_trend" for ax in axes for ln in ax.get_lines()):
             bottom.append(Line2D([], [], color=_INK, linestyle=(0, (4, 2)), linewidth=1.0,
                                  label="brine trend B = m A (least squares)"))
-        ncols = max(len(top), len(bottom))
-        blank = Line2D([], [], linestyle="none", label=" ")
-        top += [blank] * (ncols - len(top))
-        handles = top + bottom + [blank] * (ncols - len(bottom)) if bottom else top
-        if bottom:                  # legends fill column by column: fluid k over model k
-            handles = [h for k in range(ncols) for h in handles[k::ncols]]
-        _held_legend(fig, handles, "; ".join(t for t in (held, f"class threshold on A: "
-                                                          f"{threshold:g}") if t), ncols)
+        title = f"class threshold on A: {threshold:g}" + (
+            "" if every == 1 else f"; markers every {every * float(np.median(np.diff(depth))):g}"
+                                  " m, coloured by depth")
+        _held_legend(fig, top, "; ".join(t for t in (held, title) if t), len(top))
+        if bottom:
+            fig.legend(handles=bottom, loc="outside lower center", ncols=min(len(bottom), 3))
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=list(axes),
                            pad=0.02)
         bar.set_label(_label("depth", ds))
@@ -467,8 +472,9 @@ def _crossplot_limits(A, B, threshold):
     return (x0 - px, x1 + px), (y0 - py, y1 + py)
 
 
-def _class_regions(ax, limits, threshold, values, meanings, cells=400):
-    """Shade each class region of the classification rule on ``ax`` and name it."""
+def _class_regions(ax, limits, threshold, values, meanings, A, B, cells=400):
+    """Shade each class region of the classification rule on ``ax`` and name it where it is
+    farthest (in the axes' proportions) from the points ``A``, ``B`` within the region."""
     (x0, x1), (y0, y1) = limits
     a = x0 + (np.arange(cells) + 0.5) * (x1 - x0) / cells
     b = y0 + (np.arange(cells) + 0.5) * (y1 - y0) / cells
@@ -476,16 +482,37 @@ def _class_regions(ax, limits, threshold, values, meanings, cells=400):
     codes = _classify(AA, BB, threshold)
     from matplotlib.colors import to_rgba
 
+    ok = np.isfinite(A) & np.isfinite(B)
+    points = np.column_stack([(A[ok] - x0) / (x1 - x0), (B[ok] - y0) / (y1 - y0)])
+    points = points[::max(1, len(points) // 2000)]
+    coarse = slice(cells // 80, None, cells // 40)        # 40 x 40 candidate places
     rgba = np.zeros(codes.shape + (4,))
     for k, (value, name) in enumerate(zip(values, meanings)):
         inside = codes == value
         if not inside.any():
             continue
         rgba[inside] = to_rgba(_CLASS_COLOURS[k % len(_CLASS_COLOURS)], 0.22)
-        rows, cols = np.nonzero(inside)
-        j = int(np.argmin(np.hypot(cols - cols.mean(), rows - rows.mean())))
-        ax.text(a[cols[j]], b[rows[j]], name, ha="center", va="center", fontsize=10,
-                fontweight="bold", color="0.35", zorder=1.2, gid=f"class_label:{name}")
+        mask = inside[coarse, coarse]
+        if not mask.any():                                # a sliver: its middle cell
+            rows, cols = np.nonzero(inside)
+            j = rows.size // 2
+            where = a[cols[j]], b[rows[j]]
+        else:
+            # the candidate inside the region farthest from the points, the region's edge
+            # and the axes' edges (all in axes fractions)
+            n = mask.shape[0]
+            grid = (np.arange(n) + 0.5) / n
+            xy = np.column_stack([grid[np.nonzero(mask)[1]], grid[np.nonzero(mask)[0]]])
+            out = np.column_stack([grid[np.nonzero(~mask)[1]], grid[np.nonzero(~mask)[0]]])
+            gaps = [np.minimum.reduce([xy[:, 0], 1.0 - xy[:, 0], xy[:, 1], 1.0 - xy[:, 1]])]
+            for other in (points, out):
+                if other.size:
+                    gaps.append(np.min(np.hypot(xy[:, None, 0] - other[None, :, 0],
+                                                xy[:, None, 1] - other[None, :, 1]), axis=1))
+            j = int(np.argmax(np.minimum.reduce(gaps)))
+            where = x0 + xy[j, 0] * (x1 - x0), y0 + xy[j, 1] * (y1 - y0)
+        ax.text(*where, name, ha="center", va="center", fontsize=10, fontweight="bold",
+                color="0.35", zorder=1.2, gid=f"class_label:{name}")
     ax.imshow(rgba, extent=(x0, x1, y0, y1), origin="lower", aspect="auto",
               interpolation="nearest", zorder=0.5, gid="class_regions")
 
@@ -742,7 +769,14 @@ def _short_model(model, index) -> str:
 def _wiggle(ax, x0, trace, twt, colour, gid, fill_gid):
     """A wiggle trace at ``x0``, its positive lobes filled in ``colour``."""
     ok = np.isfinite(trace)
-    x = x0 + np.where(ok, trace, 0.0)
-    ax.fill_betweenx(twt, x0, x, where=x > x0, interpolate=True, color=colour, alpha=0.7,
-                     linewidth=0.0, zorder=2.0, gid=fill_gid)
-    ax.plot(np.where(ok, x, np.nan), twt, color=_INK, linewidth=0.7, zorder=2.5, gid=gid)
+    y = np.where(ok, trace, 0.0)
+    # the zero crossings (linear between samples) added, so that the fill of the positive
+    # part ends where the trace crosses zero
+    i = np.flatnonzero(y[:-1] * y[1:] < 0.0)
+    cross = twt[i] + (twt[i + 1] - twt[i]) * y[i] / (y[i] - y[i + 1])
+    order = np.argsort(np.concatenate([twt, cross]), kind="stable")
+    t = np.concatenate([twt, cross])[order]
+    lobe = np.maximum(np.concatenate([y, np.zeros(i.size)])[order], 0.0)
+    ax.fill_betweenx(t, x0, x0 + lobe, color=colour, alpha=0.7, linewidth=0.0, zorder=2.0,
+                     gid=fill_gid)
+    ax.plot(np.where(ok, x0 + y, np.nan), twt, color=_INK, linewidth=0.7, zorder=2.5, gid=gid)

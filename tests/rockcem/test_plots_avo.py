@@ -195,6 +195,21 @@ def test_crossplot_draws_each_fluid_and_model_trajectory_coloured_by_depth():
     assert bar.get_ylabel().startswith("Depth") and bar.get_ylabel().endswith("(m)")
 
 
+def test_crossplot_marks_every_kth_depth_of_a_dense_profile_and_draws_the_whole_line():
+    depth = np.linspace(1000.0, 4500.0, 200)
+    ds = stack().isel(depth=np.repeat(np.arange(DEPTH.size), 25)).assign_coords(depth=depth)
+    ax = plots.intercept_gradient_crossplot(ds).axes[0]
+    for fluid in FLUIDS:
+        for i, model in enumerate(MODELS):
+            (path,) = by_gid(ax, f"path:{fluid}:{model}")
+            assert len(path.get_xdata()) == 200
+            (points,) = by_gid(ax, f"trajectory:{fluid}:{model}", "collections")
+            marked = np.asarray(points.get_array())
+            assert marked.size == 40                 # every 5th of 200 depths
+            assert np.array_equal(marked, depth[np.flatnonzero(np.isin(depth, marked))])
+            assert np.allclose(np.diff(marked), 5 * (depth[1] - depth[0]))
+
+
 def test_crossplot_background_trend_is_the_brine_least_squares_line_through_the_origin():
     fig = plots.intercept_gradient_crossplot(stack())
     (trend,) = by_gid(fig.axes[0], "background_trend")
@@ -304,6 +319,20 @@ def test_synthetic_section_draws_a_wiggle_per_model_and_fluid():
             assert np.array_equal(line.get_ydata(), TWT)
         assert ax.yaxis_inverted()
     assert fig.axes[0].get_ylabel() == "Two-way time (s)"
+
+
+def test_wiggle_fill_covers_the_positive_lobes_to_the_zero_crossings():
+    t = np.array([0.0, 1.0, 2.0, 3.0])
+    y = np.array([-1.0, 3.0, 1.0, -1.0])          # crossings at t = 0.25 and 2.5
+    fig, ax = plt.subplots()
+    avo._wiggle(ax, 0.0, y, t, "C0", "trace", "fill")
+    (fill,) = ax.collections
+    path = fill.get_paths()[0].vertices
+    area = 0.5 * abs(np.dot(path[:, 0], np.roll(path[:, 1], 1))
+                     - np.dot(path[:, 1], np.roll(path[:, 0], 1)))
+    # the positive part of the piecewise-linear trace: triangle 0.25-1 (height 3), trapezoid
+    # 1-2 (3 and 1), triangle 2-2.5 (height 1)
+    assert area == pytest.approx(0.5 * 0.75 * 3 + 0.5 * (3 + 1) + 0.5 * 0.5 * 1, rel=1e-12)
 
 
 def test_synthetic_section_adds_the_angle_gathers():
