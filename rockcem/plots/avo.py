@@ -637,9 +637,11 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
         ax.set_xlim(angle.min(), angle.max())
         handles = [Line2D([], [], linewidth=1.4, **_model_line(m, i, len(models)))
                    for i, m in enumerate(models) if m]
-        handles += [Line2D([], [], color=_INK, linewidth=1.4, label="Re R_PP (exact)"),
-                    Line2D([], [], color=_INK, linewidth=1.2, linestyle=(0, (4, 2)),
-                           label="|R_PP| where complex (beyond critical)")]
+        handles.append(Line2D([], [], color=_INK, linewidth=1.4, label="Re R_PP (exact)"))
+        if any(str(ln.get_gid()).startswith("magnitude:") for ax in axes.flat
+               for ln in ax.get_lines()):
+            handles.append(Line2D([], [], color=_INK, linewidth=1.2, linestyle=(0, (4, 2)),
+                                  label="|R_PP| where complex (beyond critical)"))
         title = "; ".join(t for t in (held, interfaces[0] if len(interfaces) == 1
                                       and interfaces[0] else "") if t)
         _held_legend(fig, handles, title, min(len(handles), 3))

@@ -293,6 +293,11 @@ def test_reflectivity_angle_draws_re_and_magnitude_beyond_critical():
         drawn = np.isfinite(x)
         assert np.array_equal(x[drawn], ANGLE[ANGLE > critical])
         assert np.allclose(y[drawn], 1.0, rtol=0, atol=1e-12)   # total reflection
+    texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "|R_PP| where complex (beyond critical)" in texts
+    fig = plots.reflectivity_angle(stack().sel(fluid=["gas", "co2"]), [2000.0])
+    assert "|R_PP| where complex (beyond critical)" not in [
+        t.get_text() for t in fig.legends[0].get_texts()]
 
 
 def test_reflectivity_angle_refuses_depths_outside_the_range():
