@@ -34,6 +34,9 @@ _CLASS_COLOURS = ("#56B4E9", "#009E73", "#F0E442", "#E69F00", "#CC79A7", "#0072B
 _FLUID_MARKERS = {"brine": "o", "gas": "^", "co2": "s", "oil": "D", "methane": "v"}
 _EXTRA_MARKERS = ("P", "X", "*", "h")
 _FLUID_NAMES = {"co2": "CO₂", "brine": "brine", "gas": "gas", "oil": "oil"}
+#: Room (axes fraction) a class name needs from the points and its region's edges on the
+#: crossplot.
+_LABEL_ROOM = 0.03
 #: The most depths of a trajectory the crossplot marks (coloured by depth); past it every k-th.
 _MARKED = 40
 
@@ -426,11 +429,12 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
             ax.set_xlabel("Intercept A (–)")
         axes[0].set_ylabel("Gradient B (–)")
         limits = _crossplot_limits(A, B, threshold)
+        shown = set()                                   # the classes in the panels
         for r, ax in enumerate(axes):
             ax.set_xlim(*limits[0])
             ax.set_ylim(*limits[1])
             ax.set_autoscale_on(False)
-            _class_regions(ax, limits, threshold, values, meanings, A[r], B[r])
+            shown.update(_class_regions(ax, limits, threshold, values, meanings, A[r], B[r]))
             ax.axhline(0.0, color=_INK, linewidth=0.8, zorder=1.5, gid="quadrants")
             ax.axvline(0.0, color=_INK, linewidth=0.8, zorder=1.5, gid="quadrants")
             ax.grid(False)
@@ -452,7 +456,11 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
         title = f"class threshold on A: {threshold:g}" + (
             "" if every == 1 else f"; markers every {every * float(np.median(np.diff(depth))):g}"
                                   " m, coloured by depth")
-        _held_legend(fig, top, "; ".join(t for t in (held, title) if t), len(top))
+        from matplotlib.patches import Patch
+
+        top += [Patch(facecolor=_CLASS_COLOURS[k % len(_CLASS_COLOURS)], alpha=0.35,
+                      edgecolor="none", label=f"class {meanings[k]}") for k in sorted(shown)]
+        _held_legend(fig, top, "; ".join(t for t in (held, title) if t), min(len(top), 8))
         if bottom:
             fig.legend(handles=bottom, loc="outside lower center", ncols=min(len(bottom), 3))
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=list(axes),
@@ -474,7 +482,10 @@ def _crossplot_limits(A, B, threshold):
 
 def _class_regions(ax, limits, threshold, values, meanings, A, B, cells=400):
     """Shade each class region of the classification rule on ``ax`` and name it where it is
-    farthest (in the axes' proportions) from the points ``A``, ``B`` within the region."""
+    farthest (in the axes' proportions) from the points ``A``, ``B`` within the region, when
+    that place is at least :data:`_LABEL_ROOM` from them and from the region's edges (a
+    narrow region is named by the legend alone). Returns the positions (in ``values``) of
+    the classes shown."""
     (x0, x1), (y0, y1) = limits
     a = x0 + (np.arange(cells) + 0.5) * (x1 - x0) / cells
     b = y0 + (np.arange(cells) + 0.5) * (y1 - y0) / cells
@@ -487,17 +498,15 @@ def _class_regions(ax, limits, threshold, values, meanings, A, B, cells=400):
     points = points[::max(1, len(points) // 2000)]
     coarse = slice(cells // 80, None, cells // 40)        # 40 x 40 candidate places
     rgba = np.zeros(codes.shape + (4,))
+    shown = []
     for k, (value, name) in enumerate(zip(values, meanings)):
         inside = codes == value
         if not inside.any():
             continue
+        shown.append(k)
         rgba[inside] = to_rgba(_CLASS_COLOURS[k % len(_CLASS_COLOURS)], 0.22)
         mask = inside[coarse, coarse]
-        if not mask.any():                                # a sliver: its middle cell
-            rows, cols = np.nonzero(inside)
-            j = rows.size // 2
-            where = a[cols[j]], b[rows[j]]
-        else:
+        if mask.any():
             # the candidate inside the region farthest from the points, the region's edge
             # and the axes' edges (all in axes fractions)
             n = mask.shape[0]
@@ -509,12 +518,15 @@ def _class_regions(ax, limits, threshold, values, meanings, A, B, cells=400):
                 if other.size:
                     gaps.append(np.min(np.hypot(xy[:, None, 0] - other[None, :, 0],
                                                 xy[:, None, 1] - other[None, :, 1]), axis=1))
-            j = int(np.argmax(np.minimum.reduce(gaps)))
-            where = x0 + xy[j, 0] * (x1 - x0), y0 + xy[j, 1] * (y1 - y0)
-        ax.text(*where, name, ha="center", va="center", fontsize=10, fontweight="bold",
-                color="0.35", zorder=1.2, gid=f"class_label:{name}")
+            room = np.minimum.reduce(gaps)
+            j = int(np.argmax(room))
+            if room[j] >= _LABEL_ROOM:
+                ax.text(x0 + xy[j, 0] * (x1 - x0), y0 + xy[j, 1] * (y1 - y0), name,
+                        ha="center", va="center", fontsize=10, fontweight="bold",
+                        color="0.35", zorder=1.2, gid=f"class_label:{name}")
     ax.imshow(rgba, extent=(x0, x1, y0, y1), origin="lower", aspect="auto",
               interpolation="nearest", zorder=0.5, gid="class_regions")
+    return shown
 
 
 def _brine_trend(A, B, fluids):
