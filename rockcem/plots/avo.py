@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._style import (_INK, _RC, _capital, _check_dataset, _figure, _label, _model_colour,
-                     _model_label, _require, _units_text)
+                     _model_label, _model_width, _require, _units_text)
 
 __all__ = ["avo_class_depth", "intercept_gradient_crossplot", "reflectivity_angle",
            "synthetic_section", "class_threshold"]
@@ -545,7 +545,9 @@ def _brine_trend(A, B, fluids):
 # ----------------------------------------------------------------------------- R(angle)
 def reflectivity_angle(ds, depths, *, interface=None, fig=None):
     """The PP reflection coefficient against angle of incidence at chosen depths: one row per
-    depth (and interface), one column per fluid, one colour per model.
+    depth (and interface), one column per fluid, one colour per model (the first model's
+    line widest and lowest, so that models whose curves coincide, as Models 1 and 3 nearly do,
+    stay visible).
 
     The real part of the exact (Zoeppritz) R_PP, ``reflectivity_pp``, is drawn solid over
     every angle; where R_PP is complex — beyond a critical angle, where ``|R_PP|``
@@ -629,13 +631,14 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
                 ax = axes[row, c]
                 for i, model in enumerate(models):
                     line = _model_line(model, i, len(models))
-                    ax.plot(angle, re[r, c, i, k], linewidth=1.4, zorder=2.0 + 0.01 * i,
+                    width = _model_width(i, len(models))
+                    ax.plot(angle, re[r, c, i, k], linewidth=width, zorder=2.0 + 0.01 * i,
                             gid=f"re:{model}", **line)
                     complex_ = mag[r, c, i, k] - np.abs(re[r, c, i, k]) > 1e-9
                     if complex_.any():
                         ax.plot(np.where(complex_, angle, np.nan),
                                 np.where(complex_, mag[r, c, i, k], np.nan),
-                                linestyle=(0, (4, 2)), linewidth=1.2, color=line["color"],
+                                linestyle=(0, (4, 2)), linewidth=width, color=line["color"],
                                 zorder=2.0 + 0.01 * i, gid=f"magnitude:{model}")
                 ax.axhline(0.0, color="0.5", linewidth=0.6, zorder=1.0)
                 title = [_capital(_fluid_text(fluid)) if fluid else "",
@@ -661,22 +664,26 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
 
 
 # ----------------------------------------------------------------------------- synthetics
-def synthetic_section(ds, *, fig=None):
+def synthetic_section(ds, *, scale="common", fig=None):
     """Normal-incidence synthetic traces against two-way time, and the angle gathers where the
     Dataset has them.
 
     The first row has one panel per fluid with one wiggle trace per model (positive lobes
     filled in the model's colour), two-way time increasing downward. Where ``ds`` has
     ``angle_gather`` (dimensions ``fluid``, ``model``, ``twt``, ``angle``), one row per model
-    follows with that model's gather: a trace per angle, positive lobes filled. Every trace of
-    a row is scaled by one gain, so that the largest amplitude of the row spans 0.45 of the
-    trace spacing: amplitudes compare across fluids and models (and across angles).
+    follows with that model's gather: a trace per angle, positive lobes filled. With
+    ``scale="common"`` every trace of a row is scaled by one gain, so that the largest
+    amplitude of the row spans 0.45 of the trace spacing: amplitudes compare across fluids and
+    models (and across angles); with ``scale="trace"`` each trace (each gather) by its own, so
+    that a weak trace beside a strong one stays readable, and the legend says so.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A stack scene's Dataset with ``synthetic`` (dimensions among ``fluid``, ``model``,
         ``twt``; coordinate ``twt`` in s).
+    scale : {"common", "trace"}, optional
+        One gain for every trace of a row (default), or one per trace (per gather).
     fig : matplotlib.figure.Figure, optional
         Empty figure to draw in; default a new one sized for the panels.
 
@@ -708,6 +715,8 @@ def synthetic_section(ds, *, fig=None):
     (['Brine', 'Gas'], 'Two-way time (s)')
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
+    if scale not in ("common", "trace"):
+        raise ValueError(f"scale must be 'common' or 'trace'; got {scale!r}")
     names = ["synthetic"] + (["angle_gather"] if "angle_gather" in ds.data_vars else [])
     ds, held = _prepare(ds, names, "synthetic_section", expand=("fluid", "model"))
     if "twt" not in ds["synthetic"].dims:
@@ -732,12 +741,13 @@ def synthetic_section(ds, *, fig=None):
         fig = _figure(fig, (1.2 + max(1.0, 0.55 * len(models)) * 1.6 * len(fluids),
                             0.9 + 4.2 * rows))
         axes = fig.subplots(rows, len(fluids), sharey=True, squeeze=False)
-        gain = 0.45 / _peak(traces)
+        gain = np.full(traces.shape[:2], 0.45 / _peak(traces)) if scale == "common" else \
+            0.45 / np.vectorize(_peak, signature="(n)->()")(traces)
         for c, fluid in enumerate(fluids):
             ax = axes[0, c]
             for i, model in enumerate(models):
                 colour = _model_line(model, i, len(models))["color"]
-                _wiggle(ax, i, gain * traces[c, i], twt, colour, f"trace:{model}",
+                _wiggle(ax, i, gain[c, i] * traces[c, i], twt, colour, f"trace:{model}",
                         f"fill:{model}")
             ax.set_xticks(range(len(models)),
                           [_short_model(m, i) for i, m in enumerate(models)])
@@ -746,13 +756,15 @@ def synthetic_section(ds, *, fig=None):
             ax.grid(False, axis="x")
         if gather is not None:
             spacing = float(np.min(np.diff(angle))) if angle.size > 1 else 1.0
-            gain = 0.45 * spacing / _peak(gather)
+            gain = np.full(gather.shape[:2], 0.45 * spacing / _peak(gather)) \
+                if scale == "common" else \
+                0.45 * spacing / np.vectorize(_peak, signature="(a,n)->()")(gather)
             for i, model in enumerate(models):
                 colour = _model_line(model, i, len(models))["color"]
                 for c, fluid in enumerate(fluids):
                     ax = axes[1 + i, c]
                     for j, theta in enumerate(angle):
-                        _wiggle(ax, theta, gain * gather[c, i, j], twt, colour,
+                        _wiggle(ax, theta, gain[c, i] * gather[c, i, j], twt, colour,
                                 f"gather:{model}:{theta:g}", f"fill:{model}:{theta:g}")
                     ax.set_xlim(angle.min() - spacing, angle.max() + spacing)
                     ax.set_xlabel(_angle_label(ds))
@@ -765,8 +777,10 @@ def synthetic_section(ds, *, fig=None):
         axes[0, 0].set_ylim(twt.max(), twt.min())            # time increases downward
         handles = [Line2D([], [], linewidth=6.0, alpha=0.7, **_model_line(m, i, len(models)))
                    for i, m in enumerate(models) if m]
-        if handles or held:
-            _held_legend(fig, handles, held, min(max(len(handles), 1), 4))
+        note = ("each trace scaled to its own peak" if scale == "trace" else
+                "one gain for every trace of a row")
+        _held_legend(fig, handles, "; ".join(t for t in (held, note) if t),
+                     min(max(len(handles), 1), 4))
     return fig
 
 

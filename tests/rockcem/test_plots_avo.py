@@ -330,6 +330,24 @@ def test_synthetic_section_draws_a_wiggle_per_model_and_fluid():
     assert fig.axes[0].get_ylabel() == "Two-way time (s)"
 
 
+def test_synthetic_section_scaled_trace_by_trace():
+    ds = stack(gather=True)
+    fig = plots.synthetic_section(ds, scale="trace")
+    for f, ax in enumerate(fig.axes[:len(FLUIDS)]):
+        for m, line in enumerate(by_gid(ax, "trace:")):
+            trace = ds["synthetic"].values[f, m]
+            assert np.allclose(line.get_xdata(), m + 0.45 * trace / np.abs(trace).max(),
+                               rtol=0, atol=1e-12)
+    gather = ds["angle_gather"].values[0, 0]                  # brine, first model
+    lines = by_gid(fig.axes[len(FLUIDS)], "gather:hs_gassmann:")
+    widest = max(np.abs(ln.get_xdata() - a).max() for ln, a in zip(lines, ANGLE))
+    assert widest == pytest.approx(0.45 * 2.0)                # 0.45 of the 2° spacing
+    assert np.abs(gather).max() > 0
+    assert "each trace scaled to its own peak" in fig.legends[0].get_title().get_text()
+    with pytest.raises(ValueError, match="scale must be 'common' or 'trace'; got 'loud'"):
+        plots.synthetic_section(ds, scale="loud")
+
+
 def test_wiggle_fill_covers_the_positive_lobes_to_the_zero_crossings():
     t = np.array([0.0, 1.0, 2.0, 3.0])
     y = np.array([-1.0, 3.0, 1.0, -1.0])          # crossings at t = 0.25 and 2.5
