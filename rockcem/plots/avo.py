@@ -201,7 +201,7 @@ def _classify(intercept, gradient, threshold):
     return np.asarray(avo_class(intercept, gradient, threshold=threshold))
 
 
-def _model_line(model, index, count) -> dict:
+def _model_line(model, index) -> dict:
     """Colour and label of a model's line; a model-less Dataset's single member in ink."""
     if model == "":
         return {"color": _INK, "label": "model"}
@@ -309,7 +309,7 @@ def avo_class_depth(ds, *, interface=None, fig=None):
                     x += (i - 0.5 * (len(models) - 1)) * step
                     ax.plot(np.repeat(x, 2), np.repeat(edges, 2)[1:-1], linewidth=1.8,
                             solid_capstyle="butt", gid=f"class:{model}",
-                            zorder=2.0 + 0.01 * i, **_model_line(model, i, len(models)))
+                            zorder=2.0 + 0.01 * i, **_model_line(model, i))
                 ax.set_title(_row_title(fluid, face, interfaces))
                 ax.set_xticks(range(len(values)), meanings)
                 ax.set_xlim(-0.5, len(values) - 0.5)
@@ -319,7 +319,7 @@ def avo_class_depth(ds, *, interface=None, fig=None):
                 if r == len(interfaces) - 1:
                     ax.set_xlabel("AVO class")
         _depth_axis(axes[0, 0], depth)
-        handles = [Line2D([], [], linewidth=1.8, **_model_line(m, i, len(models)))
+        handles = [Line2D([], [], linewidth=1.8, **_model_line(m, i))
                    for i, m in enumerate(models)]
         title = "; ".join(t for t in (held, interfaces[0] if len(interfaces) == 1
                                       and interfaces[0] else "") if t)
@@ -416,7 +416,7 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
                 for i, model in enumerate(models):
                     a, b = A[r, f, i], B[r, f, i]
                     ok = np.isfinite(a) & np.isfinite(b)
-                    line = _model_line(model, i, len(models))
+                    line = _model_line(model, i)
                     ax.plot(a[ok], b[ok], color=line["color"],
                             linewidth=0.8 if every == 1 else 1.4, alpha=0.8, zorder=2.0,
                             gid=f"path:{fluid}:{model}")
@@ -448,7 +448,7 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
         top = [Line2D([], [], linestyle="none", marker=_fluid_marker(fl, f),
                       markerfacecolor="0.75", markeredgecolor="0.25",
                       label=_fluid_text(fl) or "data") for f, fl in enumerate(fluids)]
-        bottom = [Line2D([], [], linewidth=1.4, **_model_line(m, i, len(models)))
+        bottom = [Line2D([], [], linewidth=1.4, **_model_line(m, i))
                   for i, m in enumerate(models) if m]
         if any(ln.get_gid() == "background_trend" for ax in axes for ln in ax.get_lines()):
             bottom.append(Line2D([], [], color=_INK, linestyle=(0, (4, 2)), linewidth=1.0,
@@ -630,7 +630,7 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
             for c, fluid in enumerate(fluids):
                 ax = axes[row, c]
                 for i, model in enumerate(models):
-                    line = _model_line(model, i, len(models))
+                    line = _model_line(model, i)
                     width = _model_width(i, len(models))
                     ax.plot(angle, re[r, c, i, k], linewidth=width, zorder=2.0 + 0.01 * i,
                             gid=f"re:{model}", **line)
@@ -650,7 +650,7 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
                 if row == len(rows) - 1:
                     ax.set_xlabel(_angle_label(ds))
         ax.set_xlim(angle.min(), angle.max())
-        handles = [Line2D([], [], linewidth=1.4, **_model_line(m, i, len(models)))
+        handles = [Line2D([], [], linewidth=1.4, **_model_line(m, i))
                    for i, m in enumerate(models) if m]
         handles.append(Line2D([], [], color=_INK, linewidth=1.4, label="Re R_PP (exact)"))
         if any(str(ln.get_gid()).startswith("magnitude:") for ax in axes.flat
@@ -746,11 +746,11 @@ def synthetic_section(ds, *, scale="common", fig=None):
         for c, fluid in enumerate(fluids):
             ax = axes[0, c]
             for i, model in enumerate(models):
-                colour = _model_line(model, i, len(models))["color"]
+                colour = _model_line(model, i)["color"]
                 _wiggle(ax, i, gain[c, i] * traces[c, i], twt, colour, f"trace:{model}",
                         f"fill:{model}")
             ax.set_xticks(range(len(models)),
-                          [_short_model(m, i) for i, m in enumerate(models)])
+                          [_short_model(m) for m in models])
             ax.set_xlim(-0.7, len(models) - 0.3)
             ax.set_title(_capital(_fluid_text(fluid)) if fluid else "synthetic")
             ax.grid(False, axis="x")
@@ -760,7 +760,7 @@ def synthetic_section(ds, *, scale="common", fig=None):
                 if scale == "common" else \
                 0.45 * spacing / np.vectorize(_peak, signature="(a,n)->()")(gather)
             for i, model in enumerate(models):
-                colour = _model_line(model, i, len(models))["color"]
+                colour = _model_line(model, i)["color"]
                 for c, fluid in enumerate(fluids):
                     ax = axes[1 + i, c]
                     for j, theta in enumerate(angle):
@@ -769,13 +769,13 @@ def synthetic_section(ds, *, scale="common", fig=None):
                     ax.set_xlim(angle.min() - spacing, angle.max() + spacing)
                     ax.set_xlabel(_angle_label(ds))
                     ax.set_title(": ".join(t for t in (_capital(_fluid_text(fluid)),
-                                                       _short_model(model, i) + " gather"
+                                                       _short_model(model) + " gather"
                                                        if model else "angle gather") if t))
                     ax.grid(False, axis="x")
         for ax in axes[:, 0]:
             ax.set_ylabel(_label("twt", ds))
         axes[0, 0].set_ylim(twt.max(), twt.min())            # time increases downward
-        handles = [Line2D([], [], linewidth=6.0, alpha=0.7, **_model_line(m, i, len(models)))
+        handles = [Line2D([], [], linewidth=6.0, alpha=0.7, **_model_line(m, i))
                    for i, m in enumerate(models) if m]
         note = ("each trace scaled to its own peak" if scale == "trace" else
                 "one gain for every trace of a row")
@@ -789,9 +789,9 @@ def _peak(values) -> float:
     return peak if peak > 0.0 else 1.0
 
 
-def _short_model(model, index) -> str:
-    label = _model_label(model)
-    return label.split(" (")[0] if model else "trace"
+def _short_model(model) -> str:
+    """A model's short name: "Model 1" of "Model 1 (HS–Krief–Gassmann)"; other labels whole."""
+    return _model_label(model).split(" (")[0] if model else "trace"
 
 
 def _wiggle(ax, x0, trace, twt, colour, gid, fill_gid):

@@ -171,6 +171,30 @@ def test_a_selected_fluid_is_one_column():
     assert [ax.get_title() for ax in fig.axes] == ["Gas"]
 
 
+def test_two_interfaces_are_rows_and_panels_and_one_can_be_chosen():
+    upper = stack()
+    lower = stack().assign_coords(interface=["reservoir/base"])
+    lower["avo_intercept"] = -lower["avo_intercept"]
+    ds = xr.concat([upper, lower], dim="interface", data_vars="minimal", coords="minimal",
+                   compat="override")
+    ds["synthetic"] = upper["synthetic"]
+    fig = plots.avo_class_depth(ds)
+    assert [ax.get_title() for ax in fig.axes] == [
+        f"{f}, {i}" for i in ("seal/reservoir", "reservoir/base") for f in ("Brine", "Gas", "CO₂")]
+    fig = plots.intercept_gradient_crossplot(ds)
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert [ax.get_title() for ax in panels] == ["seal/reservoir", "reservoir/base"]
+    (points,) = by_gid(panels[1], "trajectory:gas:hs_gassmann", "collections")
+    assert np.allclose(points.get_offsets()[:, 0], -np.asarray(A["gas"]))
+    fig = plots.reflectivity_angle(ds, [2000.0], interface="reservoir/base")
+    assert [ax.get_title() for ax in fig.axes] == [f"{f}, depth 2000 m"
+                                                   for f in ("Brine", "Gas", "CO₂")]
+    assert fig.legends[0].get_title().get_text() == "reservoir/base"
+    with pytest.raises(ValueError, match=r"interface='top/seal' is not in the Dataset "
+                                         r"\(interface: seal/reservoir, reservoir/base\)"):
+        plots.avo_class_depth(ds, interface="top/seal")
+
+
 # ----------------------------------------------------------------------------- crossplot
 def colorbar(fig):
     (bar,) = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
