@@ -416,8 +416,11 @@ def test_cli_plot_avo_writes_three_pngs(stack_file, capsys):
         assert (stack_file.parent / f"fig_{part}.svg").read_text().lstrip().startswith("<?xml")
 
 
-def test_cli_plot_avo_depths_and_selection(stack_file, drawn):
+def test_cli_plot_avo_depths_and_selection(stack_file, drawn, capsys):
     assert cli.main(["plot", str(stack_file), "--kind", "avo", "--select", "fluid=gas"]) == 0
+    assert capsys.readouterr().out.strip() == "wrote " + ", ".join(   # the selection named
+        str(stack_file.parent / f"stack_fluid-gas_avo_{part}.png")
+        for part in ("class", "crossplot", "angle"))
     classes, crossplot, angle = drawn
     assert [ax.get_title() for ax in classes.axes] == ["Gas"]
     # default depths: the whole kilometres within 1000-4500 m
