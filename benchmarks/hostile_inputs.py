@@ -1150,8 +1150,8 @@ def _cases30():
                 return {"depths": int(read_well("wide.las").sizes["depth"])}
              """, setup=wide_setup, timeout=120,
              check=lambda o, f: ("", o.kind == "answer" and o.wall <= 30.0),
-             ask="read within 30 s (lasio's header parse is quadratic in the curves: see the "
-                 "page)"))
+             ask="read within 30 s (lasio 0.32's header parse and curve look-up are "
+                 "quadratic in the curves: see the page)"))
 
     # ----------------------------------------------------------------- [models.md] keys
     for cid, extra, names, forbid, title in (
@@ -1408,12 +1408,14 @@ NOT_RUN = {
     30: ("Not run here: the items of issue 30 on pore fluids and labelled arrays (other parts "
          "of the issue). The stage-file cases read a damaged file as `carry_down`'s member loop "
          "does (`md.along_depth._saved`) rather than through a whole MD run (minutes per tree); "
-         "tests/test_md_backend.py damages the stage files of a real run. `w_las_5000` stays ✗: "
-         "lasio 0.32 checks every new header item against all earlier ones for a duplicate "
-         "mnemonic (`SectionItems.append`), quadratic in the curves (37 s for the ~Curve section "
-         "of 5000 curves alone here), and formats every curve's data for a debug message it then "
-         "drops; `read_well` parses the header twice (the curves first, then the data), which "
-         "doubles that; no lasio setting avoids either."),
+         "tests/test_md_backend.py damages the stage files of a real run. `w_las_5000` "
+         "was ✗ before commit 66583c7: lasio 0.32 checks every new header item against all "
+         "earlier ones for a duplicate mnemonic (`SectionItems.append`) and looks each curve up "
+         "by position through every mnemonic, both quadratic in the curves, and formats every "
+         "curve's data for a debug message it then drops. From commit 66583c7 rockcem reads with "
+         "those made linear and plain data blocks read by `numpy.loadtxt`, to what lasio reads "
+         "(tests/test_las_speed_issue30.py; benchmarks/las_read_speed.py times the read "
+         "against the same data as CSV)."),
 }
 
 

@@ -251,6 +251,8 @@ def _plot(args) -> int:
     except (OSError, ValueError) as exc:
         raise ValueError(f"{args.file} is not a readable netCDF file: {exc}") from None
     args.kind = _plot_kind(ds, args, path)
+    if args.depth and args.kind != "avo":
+        raise ValueError("--depth chooses the depths of the reflectivity chart of --kind avo")
     if args.kind == "md-study":
         ds = _select(ds, args.select or [])
         out = output_file(args.output, _default_figure(path, args), figure=True)
@@ -267,6 +269,8 @@ def _plot(args) -> int:
         from .cli_wells import plot_with_well
 
         return plot_with_well(ds, args, path)
+    if args.kind in ("avo", "synthetic"):
+        return _plot_seismic(ds, args, path)
     draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
             "template": plots.rock_physics_template}[args.kind]
     out = output_file(args.output, _default_figure(path, args), figure=True)
@@ -274,6 +278,63 @@ def _plot(args) -> int:
     if not args.quiet:
         print(f"wrote {saved}")
     return 0
+
+
+#: The figures of ``rockcem plot --kind avo``: the suffix each adds to the name, and its function.
+_AVO_FIGURES = (("class", "avo_class_depth"), ("crossplot", "intercept_gradient_crossplot"),
+                ("angle", "reflectivity_angle"))
+
+
+def _plot_seismic(ds, args, path) -> int:
+    """``--kind synthetic``: the synthetic traces, one file. ``--kind avo``: three files, the
+    name (``-o``, else ``<stem>[_<selection>]_avo.png``) with ``_class`` (AVO class against
+    depth), ``_crossplot`` (intercept against gradient) and ``_angle`` (R_PP against angle at
+    ``--depth``, default :func:`_avo_depths`) before its suffix. Every file is checked before
+    any is drawn, and every figure drawn before any is written."""
+    from . import plots
+
+    name = args.output if args.output is not None else _default_figure(path, args)
+    if args.kind == "synthetic":
+        out = output_file(args.output, name, figure=True)
+        saved = [plots.save_figure(plots.synthetic_section(ds), out)]
+    else:
+        name = Path(name)
+        outs = [output_file(None if args.output is None else
+                            str(name.with_name(f"{name.stem}_{part}{name.suffix}")),
+                            name.with_name(f"{name.stem}_{part}{name.suffix}"), figure=True)
+                for part, _ in _AVO_FIGURES]
+        depths = args.depth or _avo_depths(ds)
+        figures = []
+        try:
+            for part, draw in _AVO_FIGURES:
+                extra = {"depths": depths} if part == "angle" else {}
+                figures.append(getattr(plots, draw)(ds, **extra))
+        except ValueError:
+            import matplotlib.pyplot as plt
+
+            for fig in figures:
+                plt.close(fig)
+            raise
+        saved = [plots.save_figure(fig, out) for fig, out in zip(figures, outs)]
+    if not args.quiet:
+        print("wrote " + ", ".join(map(str, saved)))
+    return 0
+
+
+def _avo_depths(ds) -> list[float]:
+    """Depths (m) of the reflectivity chart of ``rockcem plot --kind avo`` when ``--depth`` is
+    not given: the whole kilometres within the file's depth range (four evenly spread of them
+    where there are more), else the depths at a quarter, half and three quarters of the
+    range."""
+    import numpy as np
+
+    low, high = float(ds["depth"].min()), float(ds["depth"].max())
+    km = np.arange(np.ceil(low / 1000.0), np.floor(high / 1000.0) + 1.0) * 1000.0
+    if km.size > 4:
+        km = km[np.round(np.linspace(0, km.size - 1, 4)).astype(int)]
+    if km.size >= 2:
+        return km.tolist()
+    return [low + q * (high - low) for q in (0.25, 0.5, 0.75)]
 
 
 def _default_figure(path, args):
@@ -297,6 +358,10 @@ def _plot_kind(ds, args, path) -> str:
         if args.kind == "md-study":
             raise ValueError(f"--kind md-study draws an MD study (dimension saturation); "
                              f"{path.name} is a scene's output (dimensions: {dims})")
+        need = {"avo": "avo_class", "synthetic": "synthetic"}.get(args.kind)
+        if need is not None and need not in ds.data_vars:
+            raise ValueError(f"{path.name} has no {need}: run a stack scene with [seismic] "
+                             f"to compute the AVO variables and synthetics")
         return args.kind or "depth"
     if "saturation" not in ds.dims:
         raise ValueError(f"{path.name} is neither a scene's output (dimension depth) nor an MD "
@@ -438,11 +503,20 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")
-    p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "md-study"],
+    p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "avo", "synthetic",
+                                      "md-study"],
                    default=None,
                    help="depth trends (the default for a scene's file), velocity-porosity, the "
-                        "rock-physics template, or an MD study's velocity against cement "
-                        "saturation (the default, and the only kind, for an MD study's file)")
+                        "rock-physics template; of a stack scene's file, avo (three files: the "
+                        "AVO class against depth, the intercept-gradient crossplot and R_PP "
+                        "against angle, the name with _class, _crossplot, _angle before its "
+                        "suffix) or synthetic (the synthetic traces); or an MD study's "
+                        "velocity against cement saturation (the default, and the only kind, "
+                        "for an MD study's file)")
+    p.add_argument("--depth", action="append", type=float, metavar="M",
+                   help="--kind avo: a depth (m) of the R_PP-against-angle chart (repeat for "
+                        "more; default the whole kilometres within the file's range, at most "
+                        "four)")
     p.add_argument("--select", action="append", metavar="KEY=VALUE",
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
                         "path.gradient=30; repeat for more values or dimensions)")

@@ -20,7 +20,8 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 __all__ = ["MAX_DENSITY", "MIN_DENSITY", "MAX_MODULUS", "MIN_MODULUS", "as_array", "as_scalar",
-           "prefixed_errors", "labelled", "FIELD_UNITS",
+           "prefixed_errors", "labelled", "FIELD_UNITS", "INPUT_UNITS", "UNIT_SPELLINGS",
+           "NOT_QUANTITIES",
            "check_range", "check_positive", "check_modulus", "check_fractions", "broadcast",
            "broadcast_phases", "stack_phases", "sum_phases", "max_phases", "min_phases"]
 
@@ -237,8 +238,75 @@ FIELD_UNITS = {
 }
 
 
+#: The spellings accepted for each unit an argument takes, by the unit in the spelling of the
+#: variable registry (``datasets/variables.toml``, UDUNITS) first. Matched exactly (``mPa`` is
+#: a millipascal, not a megapascal), after surrounding spaces are dropped.
+UNIT_SPELLINGS = {
+    "degC": ("degC", "degree_Celsius", "degrees_Celsius", "degree_C", "deg_C", "degreeC",
+             "celsius", "Celsius", "°C", "℃"),
+    "MPa": ("MPa", "megapascal", "megapascals"),
+    "GPa": ("GPa", "gigapascal", "gigapascals"),
+    "g cm-3": ("g cm-3", "g/cm3", "g/cm^3", "g/cm³", "g cm^-3", "g cm**-3", "g.cm-3", "g cm⁻³",
+               "g/cc", "gram/centimeter^3", "g/mL", "g/ml"),
+    "km s-1": ("km s-1", "km/s", "km s^-1", "km s**-1", "km.s-1", "km s⁻¹", "kilometer/second"),
+    "m": ("m", "meter", "metre", "meters", "metres"),
+    "1": ("1", "fraction", "dimensionless", ""),
+    "L/L": ("L/L", "l/l", "L L-1", "m3/m3", "m3 m-3", "1", "dimensionless", ""),
+    "degAPI": ("degAPI", "API", "°API", "deg_API", "degree_API", "degrees_API"),
+}
+
+#: The unit of each argument of the labelled functions, by argument name (the names mean one
+#: thing across the modules; their docstrings state these units). An argument whose labelled
+#: value carries ``attrs["units"]`` must carry a spelling of its unit (:data:`UNIT_SPELLINGS`).
+#: A function where a name means something else says so with ``labelled(input_units=...)``.
+#: The names that are also variables of ``datasets/variables.toml`` have its units there
+#: (tests/test_labelled.py checks both that and the docstrings).
+INPUT_UNITS = {
+    **dict.fromkeys(("K", "G", "K0", "G0", "Kc", "Gc", "K_m", "G_m", "K_i", "G_i", "K_min",
+                     "G_min", "K_dry", "G_dry", "K_sat", "K_fluid", "K_fluids", "K_frame",
+                     "K_solid", "G_solid", "K_brine", "K_hydrocarbon", "c11", "c13", "c33",
+                     "c44", "c66"), "GPa"),
+    **dict.fromkeys(("rho", "density", "mineral_density", "fluid_density", "rho_brine",
+                     "rho_hydrocarbon", "reference_density"), "g cm-3"),
+    **dict.fromkeys(("pressure", "delta"), "MPa"),
+    "temperature": "degC",
+    **dict.fromkeys(("phi", "phic", "phib", "porosity", "critical_porosity", "cement_fraction",
+                     "contact_cement_limit", "fractions", "solid_fractions", "saturations",
+                     "water_saturation", "salinity", "aspect_ratio", "n", "coordination_number",
+                     "alpha", "thickness", "Lambda", "A", "f", "exponent", "gravity",
+                     "gas_gravity"), "1"),
+    "gas_oil_ratio": "L/L",
+    "api": "degAPI",
+}
+
+#: Arguments of the labelled functions that are not physical quantities (materials, choices,
+#: solver settings): never given as labelled arrays, so no unit is checked.
+NOT_QUANTITIES = frozenset(("minerals", "grain", "cement", "fluid", "scheme", "stiffness",
+                            "panels", "chunk", "tol", "max_iter", "full_output", "engine"))
+
+_SPELLING_OF = {unit: frozenset(spellings) for unit, spellings in UNIT_SPELLINGS.items()}
+
+
+def _check_input_units(func, bound, names, expected):
+    """Refuse a labelled argument whose ``attrs["units"]`` is not a spelling of its unit."""
+    for name in names:
+        attrs = getattr(bound.arguments[name], "attrs", None)
+        if not isinstance(attrs, Mapping) or attrs.get("units") is None:
+            continue
+        unit = expected.get(name)
+        if unit is None:
+            continue
+        given = attrs["units"]
+        if not isinstance(given, str) or given.strip() not in _SPELLING_OF[unit]:
+            shown = ", ".join(repr(s) for s in UNIT_SPELLINGS[unit][:4])
+            raise ValueError(f"{func.__name__}: {name} has units {given!r} but takes {unit} "
+                             f"(spelled {shown}, ...); convert the values to {unit} first "
+                             "or, if they are already in that unit, set "
+                             f"attrs['units'] to {unit!r}")
+
+
 def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | None = None,
-             phases: tuple[str, ...] = ()):
+             phases: tuple[str, ...] = (), input_units: Mapping[str, str] | None = None):
     """Let a numpy function take pandas and xarray inputs and return the type it was given.
 
     The one mechanism for labels in the project (as MetPy's and xclim's decorators): the function
@@ -251,7 +319,8 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
       one's index (a NamedTuple of ``Series`` for a NamedTuple result).
     - **xarray**: ``DataArray`` are broadcast by dimension name, and aligned by coordinate label
       along a dimension they share; the result is a ``DataArray`` over the union of their
-      dimensions (in the order the arguments bring them), with their coordinates (a NamedTuple of ``DataArray`` for a NamedTuple result).
+      dimensions (in the order the arguments bring them), with their coordinates (a NamedTuple
+      of ``DataArray`` for a NamedTuple result).
     - **Phases** (the arguments named in ``phases``, phases on the last axis in numpy): a pandas
       ``DataFrame`` has one row per sample and one column per phase, a ``Series`` one entry per
       phase; a ``DataArray`` has its phases along its last dimension. Phase labels are aligned
@@ -274,14 +343,35 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
         ``attrs["units"]`` when an input carried ``attrs["units"]``.
     phases : tuple of str
         The arguments with phases on their last axis.
+    input_units : mapping, optional
+        The unit of an argument where it differs from :data:`INPUT_UNITS` for its name (a key
+        of :data:`UNIT_SPELLINGS`).
+
+    Notes
+    -----
+    **Units of the inputs.** A labelled argument that carries ``attrs["units"]`` (a
+    ``DataArray``, or a pandas object with ``.attrs``) must carry a spelling of the unit the
+    function takes for it (:data:`INPUT_UNITS`, :data:`UNIT_SPELLINGS`: ``degree_Celsius``,
+    ``°C`` or ``celsius`` for a temperature; ``MPa`` for a pressure; ``g/cm3`` or ``g/cc`` for
+    a density); another unit (``K``, ``kPa``, ``kg m-3``) is refused by name, never taken as
+    the function's. Inputs without ``attrs["units"]`` are taken in the documented units.
     """
     if func is None:
-        return functools.partial(labelled, units=units, phases=phases)
+        return functools.partial(labelled, units=units, phases=phases, input_units=input_units)
     signature = inspect.signature(func)
     phases = frozenset(phases)
     unknown = phases.difference(signature.parameters)
+    if input_units:
+        unknown |= set(input_units).difference(signature.parameters)
+        bad = {v for v in input_units.values() if v not in UNIT_SPELLINGS}
+        if bad:
+            raise TypeError(f"labelled({func.__name__}): input_units {sorted(bad)} are not "
+                            f"units of UNIT_SPELLINGS ({', '.join(UNIT_SPELLINGS)})")
     if unknown:
         raise TypeError(f"labelled({func.__name__}): no argument named {sorted(unknown)}")
+    expected = {name: (input_units or {}).get(name, INPUT_UNITS.get(name))
+                for name in signature.parameters}
+    expected = {k: v for k, v in expected.items() if v is not None}
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
@@ -295,12 +385,13 @@ def labelled(func: Callable | None = None, *, units: str | Mapping[str, str] | N
             else:
                 return func(*args, **kwargs)
         bound = signature.bind(*args, **kwargs)
-        return _call_labelled(func, bound, units, phases)
+        return _call_labelled(func, bound, units, phases, expected)
 
+    wrapper.input_units = expected       # what the decorator checks, by argument (read-only use)
     return wrapper
 
 
-def _call_labelled(func, bound, units, phases):
+def _call_labelled(func, bound, units, phases, expected):
     """Unwrap the labelled arguments of ``bound``, call ``func`` on numpy and re-wrap."""
     kinds = {}
     for name, v in bound.arguments.items():
@@ -315,6 +406,7 @@ def _call_labelled(func, bound, units, phases):
         raise ValueError(f"{func.__name__}: {', '.join(pd_names)} given as pandas and "
                          f"{', '.join(xr_names)} as xarray; give all labelled inputs as one kind "
                          "(e.g. xarray.DataArray.from_series, or DataArray.to_series())")
+    _check_input_units(func, bound, kinds, expected)
     has_units = any(_has_units(bound.arguments[k]) for k in kinds)
     if "pandas" in kinds.values():
         return _call_pandas(func, bound, list(kinds), phases, units if has_units else None)

@@ -23,7 +23,7 @@ import rockcem.pore_fluids as pf
 from rockcem import (anisotropy, bounds, contact_integral, elastic, fluids, frames, granular,
                      inclusions, models)
 from rockcem.materials import Fluid, mineral
-from rockcem.validation import labelled
+from rockcem.validation import UNIT_SPELLINGS, labelled
 
 QUARTZ = mineral("quartz")
 ILLITE = mineral("illite")
@@ -221,7 +221,7 @@ def test_pandas_aligned_by_index(case):
     order = [2, 0, 1]                               # the later argument in another order
     sx = _series_or_frame(xv, labels, xname in case.phases)
     sy = _series_or_frame(np.asarray(yv)[order], [labels[i] for i in order], yname in case.phases)
-    sx.attrs["units"] = "whatever the input's"
+    sx.attrs["units"] = UNIT_SPELLINGS[case.func.input_units[xname]][1]   # a spelling of it
     out = case.func(**{**case.fixed, xname: sx, yname: sy})
     expected = _numpy(case, **{xname: xv, yname: yv})
     _same_structure(out, expected)
@@ -261,7 +261,7 @@ def test_xarray_broadcast_by_dimension_name(case):
     xv, yv = np.asarray(xv, dtype=float), np.asarray(yv, dtype=float)
     xa = _dataarray(xv, "well", [3.0, 1.0, 2.0], xname in case.phases)
     ya = _dataarray(yv, "sample", ["s1", "s2", "s3"], yname in case.phases)
-    ya.attrs["units"] = "whatever the input's"
+    ya.attrs["units"] = UNIT_SPELLINGS[case.func.input_units[yname]][1]
     out = case.func(**{**case.fixed, xname: xa, yname: ya})
     # numpy: x along axis 0, y along axis 1 (the phases, if any, stay last)
     xn = xv[:, None, :] if xv.ndim == 2 else xv[:, None]
@@ -490,3 +490,243 @@ def test_a_fluid_refuses_labelled_values(kind):
     with pytest.raises(ValueError, match=r"Fluid 'brine': K is a (Series|DataArray).*to_numpy"):
         Fluid(value, 1.0, "brine")
     assert Fluid(value.to_numpy(), 1.0).K.tolist() == [2.2, 2.3]
+
+
+# --- units of the inputs ---------------------------------------------------------------------
+
+#: The words by which a docstring states each unit of the table (dimensionless: none of them).
+DOC_MARKS = {"GPa": "GPa", "MPa": "MPa", "g cm-3": "g/cm³", "degC": "°C", "km s-1": "km/s",
+             "L/L": "L/L", "degAPI": "API"}
+
+
+def _param_docs(func):
+    """{argument: description} from a numpydoc Parameters section (grouped names split)."""
+    from numpydoc.docscrape import FunctionDoc
+
+    out = {}
+    for p in FunctionDoc(func)["Parameters"]:
+        for name in p.name.split(","):
+            out[name.strip()] = (p.type + " " + " ".join(p.desc)).strip()
+    return out
+
+
+def _described(func, name, seen=()):
+    """The description of argument ``name``, following "As in :func:`other`" (in its
+    description, or "Same parameters as :func:`other`" in the docstring where it has none) to
+    the function that documents it on its own."""
+    import importlib
+    import re
+
+    docs = _param_docs(func)
+    text = docs.get(name, "")
+    for ref in re.findall(r":func:`~?([\w.]+)`", text if name in docs else func.__doc__):
+        if "." in ref:
+            mod, _, attr = ref.rpartition(".")
+            other = getattr(importlib.import_module(mod), attr, None)
+        else:
+            other = getattr(inspect.getmodule(func), ref, None)
+        if other is not None and other not in seen and name in _param_docs(other):
+            return _described(other, name, (*seen, func))
+    assert name in docs, f"{func.__name__}: {name} is not documented"
+    return text
+
+
+@pytest.mark.parametrize("case", CASES, ids=IDS)
+def test_every_argument_has_its_documented_unit(case):
+    """Each argument of each labelled function is a quantity with a unit in the table, or one of
+    the listed non-quantities; the unit is the one its docstring states (GPa, MPa, g/cm³, °C,
+    L/L, API), and an argument taken as dimensionless states none of them."""
+    from rockcem.validation import NOT_QUANTITIES
+
+    table = case.func.input_units
+    for name in inspect.signature(case.func).parameters:
+        if name in NOT_QUANTITIES:
+            assert name not in table
+            continue
+        assert name in table, f"{case.id}: {name} has no unit"
+        text = _described(case.func, name)
+        if table[name] == "1":
+            found = [m for m in DOC_MARKS.values() if m in text]
+            assert not found, f"{case.id}: {name} is taken as dimensionless, its doc says {found}"
+        else:
+            assert DOC_MARKS[table[name]] in text, f"{case.id}: {name}: {text!r}"
+
+
+def test_input_units_agree_with_the_variable_registry():
+    """An argument named like a variable of datasets/variables.toml takes the unit there."""
+    import tomllib
+
+    from rockcem._data import data_path
+    from rockcem.validation import INPUT_UNITS
+
+    with open(data_path("variables.toml"), "rb") as fh:
+        registry = tomllib.load(fh)
+    shared = [k for k in INPUT_UNITS if k in registry]
+    assert {"temperature", "porosity", "density", "delta", "K_dry"} <= set(shared)
+    for name in shared:
+        assert registry[name]["units"] in UNIT_SPELLINGS[INPUT_UNITS[name]], name
+
+
+def test_spellings_are_one_unit_for_a_units_library():
+    """Every accepted spelling that pint (with cf_xarray's UDUNITS registry) reads is the same
+    unit as the first, factor 1 (20 of it is 20 of the first); the refused look-alikes are not.
+    Spellings pint does not know (``fraction``, ``g/cc`` is known, ``API`` is not) are the
+    table's own."""
+    units = pytest.importorskip("cf_xarray.units").units
+    read = 0
+    for unit, spellings in UNIT_SPELLINGS.items():
+        if unit == "degAPI":
+            continue
+        for s in spellings:
+            try:
+                q = units.Quantity(20.0, s)
+            except Exception:  # noqa: BLE001 (pint: UndefinedUnitError, AssertionError, ...)
+                continue
+            read += 1
+            base = units.Quantity(20.0, "dimensionless" if unit == "L/L" else unit)
+            assert q.to(base.units).magnitude == pytest.approx(20.0, rel=1e-15), (unit, s)
+    assert read >= 35
+    for wrong, unit in (("K", "degC"), ("degF", "degC"), ("kPa", "MPa"), ("Pa", "GPa"),
+                        ("kg m-3", "g cm-3"), ("m/s", "km s-1"), ("%", "1"), ("ft", "m")):
+        assert units.Quantity(20.0, wrong).to(unit).magnitude != pytest.approx(20.0)
+        assert wrong not in UNIT_SPELLINGS[unit]
+
+
+def _wrap(kind, values, unit, dim="depth"):
+    values = np.asarray(values, dtype=float)
+    if kind == "pandas":
+        obj = (pd.Series(values, index=[10.0, 20.0, 30.0][:len(values)]) if values.ndim == 1
+               else pd.DataFrame(values, columns=["m0", "m1"]))
+    else:
+        obj = xr.DataArray(values, dims=(dim,) if values.ndim == 1 else (dim, "mineral"))
+    obj.attrs["units"] = unit
+    return obj
+
+
+#: A function of each module the decorator serves, an argument, a unit it must refuse and the
+#: unit it takes.
+WRONG_UNITS = [
+    (elastic.velocities, "density", [2.0, 2.3, 2.6], {"K": 30.0, "G": 20.0}, "kg m-3", "g cm-3"),
+    (bounds.voigt, "fractions", FR, {"K": [37.0, 21.0], "G": [44.0, 7.0]}, "%", "1"),
+    (fluids.gassmann, "K_dry", [5.0, 10.0, 15.0], {"K_min": 37.0, "K_fluid": 2.5, "phi": 0.2},
+     "MPa", "GPa"),
+    (frames.krief, "phi", [0.1, 0.2, 0.3], {"K_min": 37.0, "G_min": 44.0}, "%", "1"),
+    (granular.hertz_mindlin, "pressure", [5.0, 20.0, 40.0],
+     {"K0": 37.0, "G0": 44.0, "phic": 0.36, "n": 9.0}, "kPa", "MPa"),
+    (inclusions.berryman_pq, "K_i", [0.0, 2.5, 20.0],
+     {"K_m": 37.0, "G_m": 44.0, "G_i": 0.0, "aspect_ratio": 0.1}, "Pa", "GPa"),
+    (contact_integral.cemented_contact_stiffness, "alpha", [0.05, 0.1, 0.2], {"Lambda": 1.0},
+     "mm", "1"),
+    (models.bulk_density, "fluid_density", [0.8, 1.0, 1.1],
+     {"mineral_density": [2.65, 2.8], "solid_fractions": [0.8, 0.2], "porosity": 0.2},
+     "kg/m3", "g cm-3"),
+    (anisotropy.vertical_velocities, "rho", [2.2, 2.4, 2.6], {"c33": 35.0, "c44": 12.0},
+     "kg m-3", "g cm-3"),
+    (pf.brine, "temperature", [20.0, 60.0, 100.0], {"pressure": 10.0, "salinity": 0.05},
+     "K", "degC"),
+    (pf.oil, "gas_oil_ratio", [10.0, 20.0, 30.0], {"temperature": 60.0, "pressure": 20.0,
+                                                   "api": 30.0}, "scf/bbl", "L/L"),
+    (pf.brie, "rho_brine", [1.0, 1.05, 1.1], {"water_saturation": 0.5, "K_brine": 2.6,
+                                              "K_hydrocarbon": 0.1, "rho_hydrocarbon": 0.2},
+     "kg/m3", "g cm-3"),
+]
+try:
+    import CoolProp  # noqa: F401
+    WRONG_UNITS.append((pf.co2, "pressure", [10.0, 20.0, 30.0], {"temperature": 60.0}, "bar",
+                        "MPa"))
+except ImportError:
+    pass
+
+
+@pytest.mark.parametrize("kind", ["xarray", "pandas"])
+@pytest.mark.parametrize("func, name, values, fixed, wrong, unit", WRONG_UNITS,
+                         ids=[f"{w[0].__module__.rsplit('.', 1)[-1]}.{w[0].__name__}"
+                              for w in WRONG_UNITS])
+def test_a_wrong_unit_is_refused_by_name(kind, func, name, values, fixed, wrong, unit):
+    """A labelled input whose attrs['units'] is another unit than the function's is refused,
+    the message naming the function, the argument, the unit given and the unit taken; the
+    same values in the right unit are computed as numpy computes them."""
+    with pytest.raises(ValueError, match=rf"^{func.__name__}: {name} has units '{wrong}' but "
+                                         rf"takes {unit} \(spelled"):
+        func(**fixed, **{name: _wrap(kind, values, wrong)})
+    good = func(**fixed, **{name: _wrap(kind, values, unit)})
+    want = func(**fixed, **{name: np.asarray(values)})
+    for (_, got), (_, w) in zip(_leaves(good), _leaves(want), strict=True):
+        np.testing.assert_array_equal(np.asarray(got), w)
+
+
+def test_all_modules_that_use_the_decorator_have_a_wrong_unit_case():
+    modules = {c.func.__module__ for c in CASES}
+    assert modules <= {f.__module__ for f, *_ in WRONG_UNITS}, \
+        modules - {f.__module__ for f, *_ in WRONG_UNITS}
+
+
+def _identity_in(unit):
+    """A labelled function taking ``x`` in ``unit`` (its ``input_units``)."""
+    return labelled(lambda x: np.asarray(x) * 1.0, units="1", input_units={"x": unit})
+
+
+@pytest.mark.parametrize("kind", ["xarray", "pandas"])
+@pytest.mark.parametrize("unit, spelling", [(u, s) for u, ss in UNIT_SPELLINGS.items()
+                                            for s in ss])
+def test_every_accepted_spelling_is_accepted(kind, unit, spelling):
+    """Each spelling of each unit passes, also with spaces around it; the values are those
+    given."""
+    f = _identity_in(unit)
+    for text in (spelling, f" {spelling} "):
+        out = f(_wrap(kind, [1.0, 2.0, 3.0], text))
+        np.testing.assert_array_equal(np.asarray(out), [1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize("func, name, spelling, fixed", [
+    (pf.water, "temperature", "degree_Celsius", {"pressure": 10.0}),
+    (pf.water, "temperature", "°C", {"pressure": 10.0}),
+    (pf.water, "pressure", "megapascal", {"temperature": 60.0}),
+    (elastic.velocities, "density", "g/cc", {"K": 30.0, "G": 20.0}),
+    (elastic.p_wave_modulus, "K", "gigapascal", {"G": 20.0}),
+    (frames.krief_factor, "phi", "", {}),
+    (pf.oil, "api", "°API", {"temperature": 60.0, "pressure": 20.0}),
+])
+def test_spellings_accepted_by_real_functions(func, name, spelling, fixed):
+    values = {"temperature": [20.0, 60.0], "pressure": [10.0, 30.0], "density": [2.0, 2.5],
+              "K": [30.0, 37.0], "phi": [0.1, 0.2], "api": [20.0, 30.0]}[name]
+    for kind in ("xarray", "pandas"):
+        out = func(**fixed, **{name: _wrap(kind, values, spelling)})
+        want = func(**fixed, **{name: np.asarray(values)})
+        for (_, got), (_, w) in zip(_leaves(out), _leaves(want), strict=True):
+            np.testing.assert_array_equal(np.asarray(got), w)
+
+
+def test_units_that_are_not_text_are_refused_and_none_is_no_unit():
+    f = _identity_in("MPa")
+    da = xr.DataArray([1.0, 2.0], dims="depth", attrs={"units": 1e6})
+    with pytest.raises(ValueError, match=r"<lambda>: x has units 1000000.0 but takes MPa"):
+        f(da)
+    np.testing.assert_array_equal(f(da.assign_attrs(units=None)).values, [1.0, 2.0])
+    with pytest.raises(ValueError, match=r"x has units '' but takes MPa"):   # "" is unit 1
+        f(da.assign_attrs(units=""))
+
+
+def test_phase_arguments_and_dataframes_are_checked_too():
+    fr = pd.DataFrame([[0.8, 0.2], [0.6, 0.4]], columns=["q", "c"])
+    K = pd.Series([37.0, 21.0], index=["q", "c"])
+    G = pd.Series([44.0, 7.0], index=["q", "c"])
+    K.attrs["units"] = "Pa"
+    with pytest.raises(ValueError, match=r"voigt: K has units 'Pa' but takes GPa"):
+        bounds.voigt(K, G, fr)
+    K.attrs["units"] = "GPa"
+    fr.attrs["units"] = "%"
+    with pytest.raises(ValueError, match=r"voigt: fractions has units '%' but takes 1"):
+        bounds.voigt(K, G, fr)
+
+
+def test_input_units_override_and_its_checks():
+    f = labelled(lambda pressure: np.asarray(pressure), input_units={"pressure": "GPa"})
+    assert f.input_units == {"pressure": "GPa"}          # the override, not the table's MPa
+    with pytest.raises(ValueError, match="pressure has units 'MPa' but takes GPa"):
+        f(xr.DataArray([1.0], dims="d", attrs={"units": "MPa"}))
+    assert labelled(lambda pressure: pressure).input_units == {"pressure": "MPa"}
+    with pytest.raises(TypeError, match=r"no argument named \['y'\]"):
+        labelled(lambda x: x, input_units={"y": "MPa"})
+    with pytest.raises(TypeError, match=r"input_units \['bar'\] are not units"):
+        labelled(lambda x: x, input_units={"x": "bar"})
