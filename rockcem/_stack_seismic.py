@@ -94,16 +94,18 @@ def add_seismic(ds, scene):
     codes[ok] = avo_class(terms.intercept, terms.gradient,
                           threshold=seismic["class_threshold"])
     ds["avo_class"] = xr.Variable(dims, codes, {
-        "long_name": "AVO class of the interface (Rutherford & Williams 1989; Ross & Kinman "
+        "units": "1", "long_name": "AVO class of the interface (Rutherford & Williams 1989; Ross & Kinman "
         "1995; Castagna & Swan 1997)",
         "flag_values": np.array(AVO_CLASS_CODES, dtype=np.int8),
         "flag_meanings": " ".join(AVO_CLASSES),
-        "class_threshold": float(seismic["class_threshold"]),
+        "threshold": float(seismic["class_threshold"]),
         "comment": "0: no class (no contrast, A >= 0 with B >= 0, or no rock on one side)",
         **common})
     if "column_vp" in ds:
         _add_synthetics(ds, seismic, angles)
-    return ds
+    from .variables import no_coordinate_fill
+
+    return no_coordinate_fill(ds)
 
 
 def _add_synthetics(ds, seismic, angles):

@@ -77,7 +77,7 @@ def test_intercept_gradient_and_class_follow_shuey_by_hand(ds):
     sel = dict(interface="seal/reservoir", fluid=fluid, model=model)
     np.testing.assert_allclose(ds["avo_intercept"].sel(**sel).values, a, atol=1e-13)
     np.testing.assert_allclose(ds["avo_gradient"].sel(**sel).values, b, atol=1e-13)
-    t = ds["avo_class"].attrs["class_threshold"]
+    t = ds["avo_class"].attrs["threshold"]
     want = np.select([(b < 0) & (a >= t), (b < 0) & (a >= 0), (b < 0) & (a > -t), b < 0,
                       a < 0], [1, 2, 3, 4, 5], 0)
     np.testing.assert_array_equal(ds["avo_class"].sel(**sel).values, want)

@@ -26,7 +26,7 @@ __all__ = ["avo_class_depth", "intercept_gradient_crossplot", "reflectivity_angl
 #: then the default) is not installed.
 DEFAULT_THRESHOLD = 0.02
 #: The dimensions the AVO figures draw; any other must be reduced to one value first.
-_AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt")
+_AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt", "gather_twt")
 #: Light fill of each class region on the crossplot, by the class's position in
 #: ``flag_values`` (Okabe–Ito hues).
 _CLASS_COLOURS = ("#56B4E9", "#009E73", "#F0E442", "#E69F00", "#CC79A7", "#0072B2",
@@ -670,7 +670,8 @@ def synthetic_section(ds, *, scale="common", fig=None):
 
     The first row has one panel per fluid with one wiggle trace per model (positive lobes
     filled in the model's colour), two-way time increasing downward. Where ``ds`` has
-    ``angle_gather`` (dimensions ``fluid``, ``model``, ``twt``, ``angle``), one row per model
+    ``angle_gather`` (dimensions ``fluid``, ``model``, ``angle`` and ``gather_twt``, its own
+    time window, or ``twt``), one row per model
     follows with that model's gather: a trace per angle, positive lobes filled. With
     ``scale="common"`` every trace of a row is scaled by one gain, so that the largest
     amplitude of the row spans 0.45 of the trace spacing: amplitudes compare across fluids and
@@ -727,10 +728,13 @@ def synthetic_section(ds, *, scale="common", fig=None):
     traces = ds["synthetic"].transpose("fluid", "model", "twt").values.astype(float)
     gather = None
     if "angle_gather" in ds.data_vars:
-        if not {"twt", "angle"} <= set(ds["angle_gather"].dims):
-            raise ValueError("angle_gather must have the dimensions twt and angle")
-        gather = ds["angle_gather"].transpose("fluid", "model", "angle", "twt").values
+        tdim = "gather_twt" if "gather_twt" in ds["angle_gather"].dims else "twt"
+        if not {tdim, "angle"} <= set(ds["angle_gather"].dims):
+            raise ValueError("angle_gather must have the dimensions angle and twt (or "
+                             "gather_twt)")
+        gather = ds["angle_gather"].transpose("fluid", "model", "angle", tdim).values
         gather = gather.astype(float)
+        gather_twt = np.asarray(ds[tdim].values, dtype=float)
         angle = np.asarray(ds["angle"].values, dtype=float)
     rows = 1 + (len(models) if gather is not None else 0)
 
@@ -740,7 +744,7 @@ def synthetic_section(ds, *, scale="common", fig=None):
     with plt.rc_context(_RC):
         fig = _figure(fig, (1.2 + max(1.0, 0.55 * len(models)) * 1.6 * len(fluids),
                             0.9 + 4.2 * rows))
-        axes = fig.subplots(rows, len(fluids), sharey=True, squeeze=False)
+        axes = fig.subplots(rows, len(fluids), sharey="row", squeeze=False)
         gain = np.full(traces.shape[:2], 0.45 / _peak(traces)) if scale == "common" else \
             0.45 / np.vectorize(_peak, signature="(n)->()")(traces)
         for c, fluid in enumerate(fluids):
@@ -764,7 +768,7 @@ def synthetic_section(ds, *, scale="common", fig=None):
                 for c, fluid in enumerate(fluids):
                     ax = axes[1 + i, c]
                     for j, theta in enumerate(angle):
-                        _wiggle(ax, theta, gain[c, i] * gather[c, i, j], twt, colour,
+                        _wiggle(ax, theta, gain[c, i] * gather[c, i, j], gather_twt, colour,
                                 f"gather:{model}:{theta:g}", f"fill:{model}:{theta:g}")
                     ax.set_xlim(angle.min() - spacing, angle.max() + spacing)
                     ax.set_xlabel(_angle_label(ds))
@@ -775,6 +779,9 @@ def synthetic_section(ds, *, scale="common", fig=None):
         for ax in axes[:, 0]:
             ax.set_ylabel(_label("twt", ds))
         axes[0, 0].set_ylim(twt.max(), twt.min())            # time increases downward
+        if gather is not None:
+            for row in axes[1:]:
+                row[0].set_ylim(gather_twt.max(), gather_twt.min())
         handles = [Line2D([], [], linewidth=6.0, alpha=0.7, **_model_line(m, i))
                    for i, m in enumerate(models) if m]
         note = ("each trace scaled to its own peak" if scale == "trace" else
