@@ -274,7 +274,7 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
     and :math:`\\sigma_{zz} = \\lambda\\,\\mathbf{d}\\cdot\\mathbf{s} + 2\\mu d_z s_z` (the common
     factor :math:`i\\omega` dropped), is solved for the four amplitudes. The vertical energy flux
     of each wave relative to the incident one is :math:`\\rho V^2 \\mathrm{Re}(\\eta)|A|^2 /
-    (\\rho_1\\alpha_1^2\\xi_1)` (Aki & Richards 1980, section 5.2.5): zero for an evanescent
+    (\\rho_1\\alpha_1^2\\xi_1)` (Aki & Richards 1980, section 5.2): zero for an evanescent
     wave, and the four sum to 1 for every angle (energy conservation).
 
     Parameters
@@ -386,7 +386,7 @@ def intercept_gradient(vp1, vs1, rho1, vp2, vs2, rho2) -> AVOTerms:
 
     Shuey (1985), in the form in P and S velocities and density that the Aki & Richards (1980)
     eq. 5.44 takes when its mean angle is replaced by the incidence angle and :math:`p` by
-    :math:`\\sin\\theta/\\alpha` (as in Castagna et al. 1998, eqs. 2-4):
+    :math:`\\sin\\theta/\\alpha` (as in Castagna et al. 1998):
 
     .. math::
 

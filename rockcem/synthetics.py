@@ -11,7 +11,7 @@ give ``da.transpose(..., "depth").values`` or ``series.to_numpy()``.
 
 Sources: Ricker, N., 1953. The form and laws of propagation of seismic wavelets. Geophysics 18,
 10-40; the convolutional model of a layered earth: Yilmaz, O., 2001. Seismic Data Analysis, SEG,
-section 2.1; reflection coefficients from :mod:`rockcem.reflectivity`.
+chapter 2; reflection coefficients from :mod:`rockcem.reflectivity`.
 """
 
 from __future__ import annotations
@@ -332,7 +332,7 @@ def synthetic_trace(depth, vp, vs, rho, *, dt, wavelet, angle=0.0, datum_velocit
     .. math:: s(t_j) = \\sum_k r(t_k)\\, w(t_j - t_k)
 
     (the convolutional model of a layered earth, primaries only, no transmission losses or
-    multiples; Yilmaz 2001, section 2.1), the wavelet's time 0 aligned with each reflection.
+    multiples; Yilmaz 2001, chapter 2), the wavelet's time 0 aligned with each reflection.
 
     Parameters
     ----------
