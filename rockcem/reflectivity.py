@@ -149,7 +149,7 @@ def _vertical_slowness(s2):
 
 # --- the exact solution -----------------------------------------------------------------------
 
-def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, out):
+def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, cos1, out):
     """The explicit R_PP of Aki & Richards (1980), eq. 5.40, on one block (arrays of one shape).
 
     With ``d = 2 (rho2 vs2**2 - rho1 vs1**2)`` the coefficients of eq. 5.40 read
@@ -157,7 +157,7 @@ def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, out):
     """
     p = sin1 / vp1
     p2 = p * p
-    xi1 = np.sqrt(1.0 / (vp1 * vp1) - p2)              # real: the incident wave propagates
+    xi1 = cos1 / vp1                  # not sqrt(1/vp1**2 - p2): that rounds below 0 near 90°
     eta1 = np.sqrt(1.0 / (vs1 * vs1) - p2)             # real: vs1 < vp1
     xi2 = _vertical_slowness(1.0 / (vp2 * vp2) - p2)
     eta2 = _vertical_slowness(1.0 / (vs2 * vs2) - p2)
@@ -251,8 +251,9 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     0.8382
     """
     vp1, vs1, rho1, vp2, vs2, rho2 = _media(vp1, vs1, rho1, vp2, vs2, rho2)
-    sin1 = np.sin(np.radians(_angle(angle)))
-    arrays = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2, angle=sin1)
+    rad = np.radians(_angle(angle))
+    arrays = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2,
+                       angle=np.sin(rad), cos=np.cos(rad))
     shape = arrays[0].shape
     out = np.empty(shape, dtype=complex)
     _blockwise(_rpp_block, arrays, shape, out)
@@ -288,12 +289,13 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
         Complex ``rpp, rps, tpp, tps`` and real ``*_flux``, broadcast over the inputs.
     """
     vp1, vs1, rho1, vp2, vs2, rho2 = _media(vp1, vs1, rho1, vp2, vs2, rho2)
-    sin1 = np.sin(np.radians(_angle(angle)))
-    vp1, vs1, rho1, vp2, vs2, rho2, sin1 = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2,
-                                                     vs2=vs2, rho2=rho2, angle=sin1)
+    rad = np.radians(_angle(angle))
+    vp1, vs1, rho1, vp2, vs2, rho2, sin1, cos1 = broadcast(
+        vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2, angle=np.sin(rad),
+        cos=np.cos(rad))
     p = sin1 / vp1
     p2 = p * p
-    xi1 = np.sqrt(1.0 / vp1**2 - p2) + 0j
+    xi1 = cos1 / vp1 + 0j
     eta1 = np.sqrt(1.0 / vs1**2 - p2) + 0j
     xi2 = _vertical_slowness(1.0 / vp2**2 - p2)
     eta2 = _vertical_slowness(1.0 / vs2**2 - p2)
