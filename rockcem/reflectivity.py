@@ -12,8 +12,9 @@ the angles on a trailing axis, e.g. ``vp1[:, None]`` with ``angle`` of shape ``(
 pandas and xarray inputs through :func:`rockcem.validation.labelled` (an ``angle`` DataArray on
 its own ``angle`` dimension, given last, makes the angle the last dimension of the result).
 
-Conventions of the exact solution. Displacements vary as :math:`\\exp[i\\omega(px + \\eta z - t)]` with :math:`z` down (Aki &
-Richards 1980, section 5.2): :math:`p = \\sin\\theta_1 / V_{P1}` is the horizontal slowness and
+Conventions of the exact solution. Displacements vary as
+:math:`\\exp[i\\omega(px + \\eta z - t)]` with :math:`z` down (Aki & Richards 1980, section 5.2):
+:math:`p = \\sin\\theta_1 / V_{P1}` is the horizontal slowness and
 :math:`\\eta = \\sqrt{1/V^2 - p^2}` the vertical slowness of a wave of velocity :math:`V`.
 Beyond a critical angle (:math:`p > 1/V`) the root is taken with a positive imaginary part, so
 that the wave decays away from the interface for positive frequencies; the coefficient is then
@@ -266,13 +267,14 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
     system of boundary conditions (Zoeppritz 1919; Aki & Richards 1980, eq. 5.39), and their
     energy fluxes.
 
-    Each wave is :math:`A\\,\\mathbf{d}\\exp[i\\omega(\\mathbf{s}\\cdot\\mathbf{x} - t)]` with slowness
-    :math:`\\mathbf{s} = (p, \\pm\\eta)` (``+`` down). Polarisations: P along :math:`V\\mathbf{s}`
-    (incident, reflected and transmitted), reflected S along :math:`\\beta_1(\\eta_1, p)`,
-    transmitted S along :math:`\\beta_2(\\eta_2, -p)`; the PP coefficients are those of Aki &
-    Richards, the PS ones may differ from theirs in sign. The continuity of :math:`u_x, u_z,
-    \\sigma_{xz}, \\sigma_{zz}` at :math:`z = 0`, with :math:`\\sigma_{xz} = \\mu(d_x s_z + d_z s_x)`
-    and :math:`\\sigma_{zz} = \\lambda\\,\\mathbf{d}\\cdot\\mathbf{s} + 2\\mu d_z s_z` (the common
+    Each wave is :math:`A\\,\\mathbf{d}\\exp[i\\omega(\\mathbf{s}\\cdot\\mathbf{x} - t)]` with
+    slowness :math:`\\mathbf{s} = (p, \\pm\\eta)` (``+`` down). Polarisations: P along
+    :math:`V\\mathbf{s}` (incident, reflected and transmitted), reflected S along
+    :math:`\\beta_1(\\eta_1, p)`, transmitted S along :math:`\\beta_2(\\eta_2, -p)`; the PP
+    coefficients are those of Aki & Richards, the PS ones may differ from theirs in sign. The
+    continuity of :math:`u_x, u_z, \\sigma_{xz}, \\sigma_{zz}` at :math:`z = 0`, with
+    :math:`\\sigma_{xz} = \\mu(d_x s_z + d_z s_x)` and
+    :math:`\\sigma_{zz} = \\lambda\\,\\mathbf{d}\\cdot\\mathbf{s} + 2\\mu d_z s_z` (the common
     factor :math:`i\\omega` dropped), is solved for the four amplitudes. The vertical energy flux
     of each wave relative to the incident one is :math:`\\rho V^2 \\mathrm{Re}(\\eta)|A|^2 /
     (\\rho_1\\alpha_1^2\\xi_1)` (Aki & Richards 1980, section 5.2): zero for an evanescent
