@@ -12,8 +12,9 @@ the angles on a trailing axis, e.g. ``vp1[:, None]`` with ``angle`` of shape ``(
 pandas and xarray inputs through :func:`rockcem.validation.labelled` (an ``angle`` DataArray on
 its own ``angle`` dimension, given last, makes the angle the last dimension of the result).
 
-Conventions of the exact solution. Displacements vary as :math:`\\exp[i\\omega(px + \\eta z - t)]` with :math:`z` down (Aki &
-Richards 1980, section 5.2): :math:`p = \\sin\\theta_1 / V_{P1}` is the horizontal slowness and
+Conventions of the exact solution. Displacements vary as
+:math:`\\exp[i\\omega(px + \\eta z - t)]` with :math:`z` down (Aki & Richards 1980, section 5.2):
+:math:`p = \\sin\\theta_1 / V_{P1}` is the horizontal slowness and
 :math:`\\eta = \\sqrt{1/V^2 - p^2}` the vertical slowness of a wave of velocity :math:`V`.
 Beyond a critical angle (:math:`p > 1/V`) the root is taken with a positive imaginary part, so
 that the wave decays away from the interface for positive frequencies; the coefficient is then
@@ -149,7 +150,7 @@ def _vertical_slowness(s2):
 
 # --- the exact solution -----------------------------------------------------------------------
 
-def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, out):
+def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, cos1, out):
     """The explicit R_PP of Aki & Richards (1980), eq. 5.40, on one block (arrays of one shape).
 
     With ``d = 2 (rho2 vs2**2 - rho1 vs1**2)`` the coefficients of eq. 5.40 read
@@ -157,7 +158,7 @@ def _rpp_block(vp1, vs1, rho1, vp2, vs2, rho2, sin1, out):
     """
     p = sin1 / vp1
     p2 = p * p
-    xi1 = np.sqrt(1.0 / (vp1 * vp1) - p2)              # real: the incident wave propagates
+    xi1 = cos1 / vp1                  # not sqrt(1/vp1**2 - p2): that rounds below 0 near 90°
     eta1 = np.sqrt(1.0 / (vs1 * vs1) - p2)             # real: vs1 < vp1
     xi2 = _vertical_slowness(1.0 / (vp2 * vp2) - p2)
     eta2 = _vertical_slowness(1.0 / (vs2 * vs2) - p2)
@@ -251,8 +252,9 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     0.8382
     """
     vp1, vs1, rho1, vp2, vs2, rho2 = _media(vp1, vs1, rho1, vp2, vs2, rho2)
-    sin1 = np.sin(np.radians(_angle(angle)))
-    arrays = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2, angle=sin1)
+    rad = np.radians(_angle(angle))
+    arrays = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2,
+                       angle=np.sin(rad), cos=np.cos(rad))
     shape = arrays[0].shape
     out = np.empty(shape, dtype=complex)
     _blockwise(_rpp_block, arrays, shape, out)
@@ -265,16 +267,17 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
     system of boundary conditions (Zoeppritz 1919; Aki & Richards 1980, eq. 5.39), and their
     energy fluxes.
 
-    Each wave is :math:`A\\,\\mathbf{d}\\exp[i\\omega(\\mathbf{s}\\cdot\\mathbf{x} - t)]` with slowness
-    :math:`\\mathbf{s} = (p, \\pm\\eta)` (``+`` down). Polarisations: P along :math:`V\\mathbf{s}`
-    (incident, reflected and transmitted), reflected S along :math:`\\beta_1(\\eta_1, p)`,
-    transmitted S along :math:`\\beta_2(\\eta_2, -p)`; the PP coefficients are those of Aki &
-    Richards, the PS ones may differ from theirs in sign. The continuity of :math:`u_x, u_z,
-    \\sigma_{xz}, \\sigma_{zz}` at :math:`z = 0`, with :math:`\\sigma_{xz} = \\mu(d_x s_z + d_z s_x)`
-    and :math:`\\sigma_{zz} = \\lambda\\,\\mathbf{d}\\cdot\\mathbf{s} + 2\\mu d_z s_z` (the common
+    Each wave is :math:`A\\,\\mathbf{d}\\exp[i\\omega(\\mathbf{s}\\cdot\\mathbf{x} - t)]` with
+    slowness :math:`\\mathbf{s} = (p, \\pm\\eta)` (``+`` down). Polarisations: P along
+    :math:`V\\mathbf{s}` (incident, reflected and transmitted), reflected S along
+    :math:`\\beta_1(\\eta_1, p)`, transmitted S along :math:`\\beta_2(\\eta_2, -p)`; the PP
+    coefficients are those of Aki & Richards, the PS ones may differ from theirs in sign. The
+    continuity of :math:`u_x, u_z, \\sigma_{xz}, \\sigma_{zz}` at :math:`z = 0`, with
+    :math:`\\sigma_{xz} = \\mu(d_x s_z + d_z s_x)` and
+    :math:`\\sigma_{zz} = \\lambda\\,\\mathbf{d}\\cdot\\mathbf{s} + 2\\mu d_z s_z` (the common
     factor :math:`i\\omega` dropped), is solved for the four amplitudes. The vertical energy flux
     of each wave relative to the incident one is :math:`\\rho V^2 \\mathrm{Re}(\\eta)|A|^2 /
-    (\\rho_1\\alpha_1^2\\xi_1)` (Aki & Richards 1980, section 5.2.5): zero for an evanescent
+    (\\rho_1\\alpha_1^2\\xi_1)` (Aki & Richards 1980, section 5.2): zero for an evanescent
     wave, and the four sum to 1 for every angle (energy conservation).
 
     Parameters
@@ -288,12 +291,13 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
         Complex ``rpp, rps, tpp, tps`` and real ``*_flux``, broadcast over the inputs.
     """
     vp1, vs1, rho1, vp2, vs2, rho2 = _media(vp1, vs1, rho1, vp2, vs2, rho2)
-    sin1 = np.sin(np.radians(_angle(angle)))
-    vp1, vs1, rho1, vp2, vs2, rho2, sin1 = broadcast(vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2,
-                                                     vs2=vs2, rho2=rho2, angle=sin1)
+    rad = np.radians(_angle(angle))
+    vp1, vs1, rho1, vp2, vs2, rho2, sin1, cos1 = broadcast(
+        vp1=vp1, vs1=vs1, rho1=rho1, vp2=vp2, vs2=vs2, rho2=rho2, angle=np.sin(rad),
+        cos=np.cos(rad))
     p = sin1 / vp1
     p2 = p * p
-    xi1 = np.sqrt(1.0 / vp1**2 - p2) + 0j
+    xi1 = cos1 / vp1 + 0j
     eta1 = np.sqrt(1.0 / vs1**2 - p2) + 0j
     xi2 = _vertical_slowness(1.0 / vp2**2 - p2)
     eta2 = _vertical_slowness(1.0 / vs2**2 - p2)
@@ -386,7 +390,7 @@ def intercept_gradient(vp1, vs1, rho1, vp2, vs2, rho2) -> AVOTerms:
 
     Shuey (1985), in the form in P and S velocities and density that the Aki & Richards (1980)
     eq. 5.44 takes when its mean angle is replaced by the incidence angle and :math:`p` by
-    :math:`\\sin\\theta/\\alpha` (as in Castagna et al. 1998, eqs. 2-4):
+    :math:`\\sin\\theta/\\alpha` (as in Castagna et al. 1998):
 
     .. math::
 

@@ -11,7 +11,7 @@ give ``da.transpose(..., "depth").values`` or ``series.to_numpy()``.
 
 Sources: Ricker, N., 1953. The form and laws of propagation of seismic wavelets. Geophysics 18,
 10-40; the convolutional model of a layered earth: Yilmaz, O., 2001. Seismic Data Analysis, SEG,
-section 2.1; reflection coefficients from :mod:`rockcem.reflectivity`.
+chapter 2; reflection coefficients from :mod:`rockcem.reflectivity`.
 """
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ def _profile(depth, **arrays):
         raise ValueError("depth must increase strictly along its last axis")
     out = {}
     for name, (value, low, high) in arrays.items():
-        a = check_range(name, _plain(name, value), low, high, low_open=True)
+        a = check_range(name, _plain(name, value), low, high, low_open=name != "vs")
         if a.ndim == 0 or a.shape[-1] != z.shape[-1]:
             raise ValueError(f"{name} must have {z.shape[-1]} samples on its last axis (one per "
                              f"depth); got shape {a.shape}")
@@ -250,7 +250,7 @@ def _series(z, vp, vs, rho, dt, angle, datum_velocity, placement):
                          vp[sl][..., 1:], vs[sl][..., 1:], rho[sl][..., 1:], a_).real
         tau = np.broadcast_to(tau[sl], r.shape)
     i_lo = int(np.floor(t[..., 0].min() / dt * (1.0 + 1e-12)))
-    i_hi = int(np.ceil(t[..., -1].max() / dt * (1.0 - 1e-12)))
+    i_hi = max(int(np.ceil(t[..., -1].max() / dt * (1.0 - 1e-12))), i_lo + 1)
     n_t = i_hi - i_lo + 1
     if n_t > MAX_SAMPLES:
         raise ValueError(f"the time grid would have {n_t} samples (more than {MAX_SAMPLES}); "
@@ -295,7 +295,8 @@ def reflectivity_series(vp, rho, depth, *, dt, vs=None, angle=0.0, datum_velocit
         Sample interval of the grid, s. The grid is the multiples of ``dt`` from the first
         sample's time to the last one's (over all leading axes).
     vs : array_like, optional
-        S velocity, km/s; needed when ``angle > 0``.
+        S velocity, km/s, in [0, 25]; needed when ``angle > 0`` (then ``> 0``: solids only, as
+        :func:`rockcem.reflectivity.zoeppritz_pp`).
     angle : float or 1-D array_like
         Angle(s) of incidence, degrees, in [0, 90); several angles add an axis before time.
     datum_velocity : float or array_like, optional
@@ -332,7 +333,7 @@ def synthetic_trace(depth, vp, vs, rho, *, dt, wavelet, angle=0.0, datum_velocit
     .. math:: s(t_j) = \\sum_k r(t_k)\\, w(t_j - t_k)
 
     (the convolutional model of a layered earth, primaries only, no transmission losses or
-    multiples; Yilmaz 2001, section 2.1), the wavelet's time 0 aligned with each reflection.
+    multiples; Yilmaz 2001, chapter 2), the wavelet's time 0 aligned with each reflection.
 
     Parameters
     ----------

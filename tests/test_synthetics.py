@@ -132,6 +132,19 @@ def test_leading_axes_are_columns_of_their_own():
         np.testing.assert_allclose(both.trace[i, j:j + n], one.trace, atol=1e-14)
 
 
+def test_a_profile_within_one_sample_and_a_liquid_at_normal_incidence():
+    """Two samples 1 m apart on a 4 ms grid: a grid of two samples holding R; a water layer
+    (vs = 0) reflects at normal incidence and is refused at an angle."""
+    twt, r = S.reflectivity_series([1.5, 2.0], [1.0, 2.0], [100.0, 101.0], dt=0.004)
+    assert twt.size == 2 and r.sum() == pytest.approx(2.5 / 5.5, abs=1e-15)
+    s = S.synthetic_trace([0.0, 100.0], [1.5, 2.0], [0.0, 1.0], [1.0, 2.0], dt=0.001,
+                          wavelet=30.0)
+    assert s.reflectivity.sum() == pytest.approx(2.5 / 5.5, abs=1e-15)
+    with pytest.raises(ValueError, match="vs1"):
+        S.synthetic_trace([0.0, 100.0], [1.5, 2.0], [0.0, 1.0], [1.0, 2.0], dt=0.001,
+                          wavelet=30.0, angle=10.0)
+
+
 def test_synthetic_at_an_angle_uses_the_exact_coefficient():
     z, vp, vs, rho = two_layers()
     tau = 0.5 * (1.0 + 1.009)
