@@ -50,7 +50,7 @@ __all__ = [
 
 #: Public sub-modules imported on first attribute access (PEP 562), not by ``import rockcem``.
 _LAZY = ("anisotropy", "calibrate", "contact_integral", "plots", "pore_fluids", "references",
-         "scene", "variables", "wells")
+         "reflectivity", "scene", "synthetics", "variables", "wells")
 
 
 def __getattr__(name):

@@ -232,7 +232,8 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
         from: ``0 < vs1 < vp1 * sqrt(3)/2``, velocities up to :data:`MAX_VELOCITY`, density in
         [:data:`rockcem.validation.MIN_DENSITY`, :data:`rockcem.validation.MAX_DENSITY`].
     vp2, vs2, rho2 : float or array_like
-        The same for the lower medium.
+        P and S velocities (km/s) and density (g/cm³) of the lower medium, in the same
+        ranges.
     angle : float or array_like
         Angle of incidence from the vertical, degrees, in [0, 90).
 
@@ -283,7 +284,8 @@ def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
     Parameters
     ----------
     vp1, vs1, rho1, vp2, vs2, rho2, angle
-        As :func:`zoeppritz_pp`.
+        P and S velocities (km/s) and densities (g/cm³) of the upper (1) and lower (2)
+        medium, and the angle of incidence (degree), as :func:`zoeppritz_pp`.
 
     Returns
     -------
@@ -357,7 +359,8 @@ def aki_richards_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     Parameters
     ----------
     vp1, vs1, rho1, vp2, vs2, rho2, angle
-        As :func:`zoeppritz_pp`.
+        P and S velocities (km/s) and densities (g/cm³) of the upper (1) and lower (2)
+        medium, and the angle of incidence (degree), as :func:`zoeppritz_pp`.
 
     Returns
     -------
@@ -407,7 +410,8 @@ def intercept_gradient(vp1, vs1, rho1, vp2, vs2, rho2) -> AVOTerms:
     Parameters
     ----------
     vp1, vs1, rho1, vp2, vs2, rho2
-        As :func:`zoeppritz_pp`.
+        P and S velocities (km/s) and densities (g/cm³) of the upper (1) and lower (2)
+        medium, as :func:`zoeppritz_pp`.
 
     Returns
     -------
@@ -438,7 +442,8 @@ def shuey_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle, terms=3):
     Parameters
     ----------
     vp1, vs1, rho1, vp2, vs2, rho2, angle
-        As :func:`zoeppritz_pp`.
+        P and S velocities (km/s) and densities (g/cm³) of the upper (1) and lower (2)
+        medium, and the angle of incidence (degree), as :func:`zoeppritz_pp`.
     terms : {2, 3}
         Number of terms.
 
@@ -459,7 +464,7 @@ def shuey_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle, terms=3):
     return np.asarray(out, dtype=float)
 
 
-@labelled
+@labelled(units="1", input_units={"gradient": "1"})      # the AVO gradient, not a thermal one
 def avo_class(intercept, gradient, *, threshold=AVO_THRESHOLD):
     """AVO class of an interface from its intercept A and gradient B.
 

@@ -250,6 +250,7 @@ UNIT_SPELLINGS = {
                "g/cc", "gram/centimeter^3", "g/mL", "g/ml"),
     "km s-1": ("km s-1", "km/s", "km s^-1", "km s**-1", "km.s-1", "km s⁻¹", "kilometer/second"),
     "m": ("m", "meter", "metre", "meters", "metres"),
+    "degree": ("degree", "degrees", "deg", "°", "arc_degree"),
     "1": ("1", "fraction", "dimensionless", ""),
     "L/L": ("L/L", "l/l", "L L-1", "m3/m3", "m3 m-3", "1", "dimensionless", ""),
     "degAPI": ("degAPI", "API", "°API", "deg_API", "degree_API", "degrees_API"),
@@ -266,7 +267,10 @@ INPUT_UNITS = {
                      "G_min", "K_dry", "G_dry", "K_sat", "K_fluid", "K_fluids", "K_frame",
                      "K_solid", "G_solid", "K_brine", "K_hydrocarbon", "c11", "c13", "c33",
                      "c44", "c66"), "GPa"),
-    **dict.fromkeys(("rho", "density", "mineral_density", "fluid_density", "rho_brine",
+    **dict.fromkeys(("vp1", "vs1", "vp2", "vs2", "v1", "v2"), "km s-1"),
+    "angle": "degree",
+    "intercept": "1",
+    **dict.fromkeys(("rho", "rho1", "rho2", "density", "mineral_density", "fluid_density", "rho_brine",
                      "rho_hydrocarbon", "reference_density"), "g cm-3"),
     **dict.fromkeys(("pressure", "delta"), "MPa"),
     "temperature": "degC",
@@ -282,7 +286,8 @@ INPUT_UNITS = {
 #: Arguments of the labelled functions that are not physical quantities (materials, choices,
 #: solver settings): never given as labelled arrays, so no unit is checked.
 NOT_QUANTITIES = frozenset(("minerals", "grain", "cement", "fluid", "scheme", "stiffness",
-                            "panels", "chunk", "tol", "max_iter", "full_output", "engine"))
+                            "panels", "chunk", "tol", "max_iter", "full_output", "engine",
+                            "terms", "threshold"))
 
 _SPELLING_OF = {unit: frozenset(spellings) for unit, spellings in UNIT_SPELLINGS.items()}
 

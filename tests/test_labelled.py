@@ -21,7 +21,7 @@ import xarray as xr
 
 import rockcem.pore_fluids as pf
 from rockcem import (anisotropy, bounds, contact_integral, elastic, fluids, frames, granular,
-                     inclusions, models)
+                     inclusions, models, reflectivity)
 from rockcem.materials import Fluid, mineral
 from rockcem.validation import UNIT_SPELLINGS, labelled
 
@@ -130,6 +130,19 @@ CASES = [
          unit=MOD),
     Case(anisotropy.vertical_velocities, ("c33", [30.0, 35.0, 40.0]),
          ("rho", [2.2, 2.4, 2.6]), {"c44": 12.0}, unit="km s-1"),
+    *[Case(f, ("vp2", [2.5, 3.0, 3.5]), ("angle", [0.0, 20.0, 35.0]),
+           {"vp1": 2.0, "vs1": 1.0, "rho1": 2.2, "vs2": 1.4, "rho2": 2.3}, unit="1")
+      for f in (reflectivity.zoeppritz_pp, reflectivity.aki_richards_pp,
+                reflectivity.shuey_pp)],
+    Case(reflectivity.zoeppritz_scattering, ("vp2", [2.5, 3.0, 3.5]),
+         ("angle", [0.0, 20.0, 35.0]),
+         {"vp1": 2.0, "vs1": 1.0, "rho1": 2.2, "vs2": 1.4, "rho2": 2.3}, unit="1"),
+    Case(reflectivity.intercept_gradient, ("vp2", [2.5, 3.0, 3.5]), ("rho2", [2.1, 2.3, 2.5]),
+         {"vp1": 2.0, "vs1": 1.0, "rho1": 2.2, "vs2": 1.4}, unit="1"),
+    Case(reflectivity.avo_class, ("intercept", [0.1, 0.01, -0.1]),
+         ("gradient", [-0.2, -0.1, 0.1]), unit="1"),
+    Case(reflectivity.critical_angle, ("v1", [2.0, 2.5, 3.0]), ("v2", [3.0, 3.5, 4.0]),
+         unit="degree"),
     Case(pf.water, T3, P3, unit=FLUID_UNITS),
     Case(pf.brine, T3, P3, {"salinity": 0.05}, unit=FLUID_UNITS),
     Case(pf.oil, T3, P3, {"api": 30.0, "gas_oil_ratio": 20.0}, unit=FLUID_UNITS),
@@ -158,7 +171,7 @@ NOT_ARRAY_FUNCTIONS = {"materials.mineral", "materials.fluid", "materials.minera
                        "materials.fluids", "inclusions.check_aspect_ratio",
                        "validity.validity_warnings"}
 PUBLIC_MODULES = (elastic, bounds, fluids, frames, granular, inclusions, contact_integral, models,
-                  anisotropy, pf)
+                  anisotropy, pf, reflectivity)
 
 
 def test_every_public_array_function_is_labelled_and_covered():
@@ -496,7 +509,7 @@ def test_a_fluid_refuses_labelled_values(kind):
 
 #: The words by which a docstring states each unit of the table (dimensionless: none of them).
 DOC_MARKS = {"GPa": "GPa", "MPa": "MPa", "g cm-3": "g/cm³", "degC": "°C", "km s-1": "km/s",
-             "L/L": "L/L", "degAPI": "API"}
+             "L/L": "L/L", "degAPI": "API", "degree": "degree"}
 
 
 def _param_docs(func):
@@ -610,6 +623,9 @@ WRONG_UNITS = [
     (bounds.voigt, "fractions", FR, {"K": [37.0, 21.0], "G": [44.0, 7.0]}, "%", "1"),
     (fluids.gassmann, "K_dry", [5.0, 10.0, 15.0], {"K_min": 37.0, "K_fluid": 2.5, "phi": 0.2},
      "MPa", "GPa"),
+    (reflectivity.zoeppritz_pp, "vp2", [2.5, 3.0, 3.5],
+     {"vp1": 2.0, "vs1": 1.0, "rho1": 2.2, "vs2": 1.4, "rho2": 2.3, "angle": 20.0}, "m s-1",
+     "km s-1"),
     (frames.krief, "phi", [0.1, 0.2, 0.3], {"K_min": 37.0, "G_min": 44.0}, "%", "1"),
     (granular.hertz_mindlin, "pressure", [5.0, 20.0, 40.0],
      {"K0": 37.0, "G0": 44.0, "phic": 0.36, "n": 9.0}, "kPa", "MPa"),

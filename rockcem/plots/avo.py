@@ -21,10 +21,6 @@ from ._style import (_INK, _RC, _capital, _check_dataset, _figure, _label, _mode
 __all__ = ["avo_class_depth", "intercept_gradient_crossplot", "reflectivity_angle",
            "synthetic_section", "class_threshold"]
 
-#: Threshold on the intercept of the AVO classification when ``avo_class`` does not carry its
-#: own (attribute ``threshold``) and :mod:`rockcem.reflectivity` (whose ``AVO_THRESHOLD`` is
-#: then the default) is not installed.
-DEFAULT_THRESHOLD = 0.02
 #: The dimensions the AVO figures draw; any other must be reduced to one value first.
 _AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt", "gather_twt")
 #: Light fill of each class region on the crossplot, by the class's position in
@@ -128,8 +124,7 @@ def class_threshold(ds) -> float:
 
     The attribute ``threshold`` of ``ds["avo_class"]`` (the value the classification was
     computed with); where it has none, the default of the classification,
-    ``rockcem.reflectivity.AVO_THRESHOLD``, or :data:`DEFAULT_THRESHOLD` (0.02) where that
-    module is not installed.
+    :data:`rockcem.reflectivity.AVO_THRESHOLD`.
 
     Parameters
     ----------
@@ -154,10 +149,8 @@ def class_threshold(ds) -> float:
     """
     if "avo_class" not in ds.variables:
         raise ValueError("the Dataset has no avo_class: run a stack scene with [seismic]")
-    try:
-        from ..reflectivity import AVO_THRESHOLD as default
-    except ImportError:
-        default = DEFAULT_THRESHOLD
+    from ..reflectivity import AVO_THRESHOLD as default
+
     value = ds["avo_class"].attrs.get("threshold", default)
     try:
         value = float(np.asarray(value).item())
@@ -170,9 +163,8 @@ def class_threshold(ds) -> float:
 
 
 def _classify(intercept, gradient, threshold):
-    """AVO class codes of intercept A and gradient B: :func:`rockcem.reflectivity.avo_class`
-    where that module exists, else its rule written again: the classes of Rutherford &
-    Williams (1989) with Ross & Kinman's (1995) IIp and Castagna & Swan's (1997) IV, placed in
+    """AVO class codes of intercept A and gradient B (:func:`rockcem.reflectivity.avo_class`):
+    the classes of Rutherford & Williams (1989) with Ross & Kinman's (1995) IIp and Castagna & Swan's (1997) IV, placed in
     the A-B plane as by Castagna & Swan (1997, Table 1), by a threshold ``t`` on A:
 
     ========  =================  ======
@@ -186,18 +178,8 @@ def _classify(intercept, gradient, threshold):
     ========  =================  ======
 
     and 0 for A >= 0 with B >= 0 (no class)."""
-    try:
-        from ..reflectivity import avo_class
-    except ImportError:
-        A, B = np.asarray(intercept, dtype=float), np.asarray(gradient, dtype=float)
-        code = np.zeros(np.broadcast(A, B).shape, dtype=np.int8)
-        falling = B < 0.0
-        code[falling & (A >= threshold)] = 1
-        code[falling & (A >= 0.0) & (A < threshold)] = 2
-        code[falling & (A < 0.0) & (A > -threshold)] = 3
-        code[falling & (A <= -threshold)] = 4
-        code[~falling & (A < 0.0)] = 5
-        return code
+    from ..reflectivity import avo_class
+
     return np.asarray(avo_class(intercept, gradient, threshold=threshold))
 
 
@@ -337,11 +319,9 @@ def intercept_gradient_crossplot(ds, *, interface=None, fig=None):
     range. Behind them:
 
     - the class regions, shaded and labelled with ``avo_class``'s ``flag_meanings``, as the
-      classification rule draws them: :func:`rockcem.reflectivity.avo_class` (where that
-      module exists; else the rule of Castagna & Swan 1997, Table 1, with Ross & Kinman's
-      1995 IIp, as ``rockcem.plots.avo._classify`` states) evaluated on a fine grid of the
-      axes, with the threshold :func:`class_threshold` reads from ``avo_class``'s attributes
-      (default 0.02);
+      classification rule draws them: :func:`rockcem.reflectivity.avo_class` evaluated on a
+      fine grid of the axes, with the threshold :func:`class_threshold` reads from
+      ``avo_class``'s attributes (default :data:`rockcem.reflectivity.AVO_THRESHOLD`);
     - the quadrants: the lines A = 0 and B = 0;
     - the background trend: the least-squares line through the origin, B = m A with
       m = ΣAB / ΣA², of the brine points of the panel (every model and depth) — the brine
