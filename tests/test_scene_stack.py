@@ -254,7 +254,8 @@ def test_the_shipped_avo_scene():
     assert [(la.name, la.lithology) for la in scene.layers] == [("seal", "shale"),
                                                                  ("reservoir", "sandstone")]
     assert scene.sections["stack"]["fluids"] == ["brine", "gas", "co2"]
-    assert scene.sections["path"]["depth_step"] == 1.0
+    assert scene.sections["path"]["depth_step"] == 5.0     # 41 angles x 12 members a depth
+    assert scene.sections["seismic"]["max_angle"] == 40.0
     assert set(scene.layers[1].scenes) == {"brine", "gas", "co2"}
 
 
