@@ -41,7 +41,42 @@ def _materials(args) -> int:
     return 0
 
 
+def _stack_summary(ds) -> str:
+    """The run summary of a stack scene: its layers and fluids and, with ``[seismic]``, the AVO
+    class of each interface per fluid and model at a few depths (the whole kilometres, at most
+    six)."""
+    import numpy as np
+
+    z = ds["depth"].values
+    lines = [f"scene {ds.attrs.get('scene_name', '?')} (stack of "
+             f"{ds.sizes['layer']} layers): {z.size} depths, {z[0]:g}-{z[-1]:g} m",
+             "layers: " + ", ".join(f"{str(la)} ({str(li)})" for la, li in
+                                    zip(ds["layer"].values, ds["lithology"].values)),
+             "fluids of the reservoir: " + ", ".join(str(f) for f in ds["fluid"].values)]
+    if "avo_class" in ds:
+        names = ds["avo_class"].attrs["flag_meanings"].split()
+        km = np.arange(np.ceil(max(z[0], 1.0) / 1000.0), np.floor(z[-1] / 1000.0) + 1) * 1000
+        km = km[np.linspace(0, km.size - 1, min(km.size, 6)).astype(int)] if km.size else z[-1:]
+        at = np.unique([z[np.argmin(np.abs(z - d))] for d in km])
+        width = max(len(str(m)) for m in ds["model"].values)
+        for i in ds["interface"].values:
+            lines.append(f"AVO class of {i} at " + ", ".join(f"{d:g}" for d in at) + " m:")
+            for f in ds["fluid"].values:
+                for m in ds["model"].values:
+                    codes = ds["avo_class"].sel(interface=i, fluid=f, model=m, depth=at).values
+                    cells = "  ".join(f"{names[c - 1] if c else '-':>4}" for c in codes)
+                    lines.append(f"  {str(f):<8}{str(m):<{width}}  {cells}")
+    if "synthetic" in ds:
+        lines.append(f"synthetic: {ds.sizes['twt']} samples, {float(ds.twt[0]):g}-"
+                     f"{float(ds.twt[-1]):g} s two-way time")
+    for line in filter(None, ds.attrs.get("validity_warnings", "").split("\n")):
+        lines.append(f"warning: {line}")
+    return "\n".join(lines)
+
+
 def _summary(ds) -> str:
+    if ds.attrs.get("lithology") == "stack":
+        return _stack_summary(ds)
     lines = [(f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
               f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m")]
     extra = [d for d in ds.dims if d not in ("depth", "model")]
@@ -350,8 +385,8 @@ def _default_figure(path, args):
 
 def _plot_kind(ds, args, path) -> str:
     """The figure ``rockcem plot`` draws of ``ds``: ``--kind``, or by default ``depth`` for a
-    scene's output (dimension ``depth``) and ``md-study`` for an MD study's (dimension
-    ``saturation``, no ``depth``); a one-line ValueError for a file that is neither, or a kind
+    scene's output (dimension ``depth``; ``avo`` for a stack's with ``avo_class``) and
+    ``md-study`` for an MD study's (dimension ``saturation``, no ``depth``); a one-line ValueError for a file that is neither, or a kind
     that does not fit the file."""
     dims = ", ".join(map(str, ds.dims)) or "none"
     if "depth" in ds.dims:
@@ -362,6 +397,8 @@ def _plot_kind(ds, args, path) -> str:
         if need is not None and need not in ds.data_vars:
             raise ValueError(f"{path.name} has no {need}: run a stack scene with [seismic] "
                              f"to compute the AVO variables and synthetics")
+        if args.kind is None and "avo_class" in ds.data_vars and not args.well:
+            return "avo"                    # a stack with [seismic]: its AVO charts
         return args.kind or "depth"
     if "saturation" not in ds.dims:
         raise ValueError(f"{path.name} is neither a scene's output (dimension depth) nor an MD "
@@ -510,7 +547,8 @@ def _parser() -> argparse.ArgumentParser:
                         "rock-physics template; of a stack scene's file, avo (three files: the "
                         "AVO class against depth, the intercept-gradient crossplot and R_PP "
                         "against angle, the name with _class, _crossplot, _angle before its "
-                        "suffix) or synthetic (the synthetic traces); or an MD study's "
+                        "suffix; the default for a stack with [seismic]) or synthetic (the "
+                        "synthetic traces); or an MD study's "
                         "velocity against cement saturation (the default, and the only kind, "
                         "for an MD study's file)")
     p.add_argument("--depth", action="append", type=float, metavar="M",

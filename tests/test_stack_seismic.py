@@ -213,3 +213,43 @@ def test_compare_interface_cli(tmp_path, ds, capsys):
     assert main(["compare", str(nc), "--well", str(well), "--interface", "2000",
                  "--intervals", "1900", "2100"]) == 2
     assert "do not go together" in capsys.readouterr().err
+
+
+def test_run_summary_of_a_stack(tmp_path, capsys):
+    """The summary names the layers and fluids and tabulates the class at whole kilometres,
+    each cell the class name of the Dataset's code there."""
+    import tomllib
+
+    from rockcem.cli import main
+
+    raw = _raw({"max_angle": 20.0})
+    scene = tmp_path / "stack.toml"
+    from rockcem.scene import scene_from_dict as load
+
+    text = load(raw).text
+    scene.write_text(text)
+    out_nc = tmp_path / "stack.nc"
+    assert main(["run", str(scene), "-o", str(out_nc)]) == 0
+    out = capsys.readouterr().out
+    assert "layers: seal (shale), reservoir (sandstone)" in out
+    assert "AVO class of seal/reservoir at 1000, 2000, 3000, 4000 m:" in out
+    import xarray as xr
+
+    with xr.open_dataset(out_nc) as ds:
+        names = ds["avo_class"].attrs["flag_meanings"].split()
+        codes = ds["avo_class"].sel(interface="seal/reservoir", fluid="gas",
+                                    model="patchy_cement", depth=[1000, 2000, 3000, 4000])
+        want = [names[c - 1] if c else "-" for c in codes.values]
+    row = next(line for line in out.splitlines() if line.strip().startswith("gas")
+               and "patchy_cement" in line)
+    assert row.split()[2:] == want
+    assert tomllib.loads(text)["seismic"]["max_angle"] == 20.0
+
+
+def test_plot_of_a_stack_file_draws_the_avo_charts_by_default(ds, tmp_path):
+    from rockcem.cli import main
+
+    nc = write_dataset(ds, tmp_path / "stack.nc")
+    assert main(["plot", str(nc)]) == 0
+    for part in ("class", "crossplot", "angle"):
+        assert (tmp_path / f"stack_avo_{part}.png").is_file()
