@@ -6,7 +6,8 @@ CoolProp for the CO2) from the current code, a few seconds on one core, and writ
 
 - ``benchmarks/results/avo_scene.csv``: intercept A, gradient B, curvature C and the AVO class of
   the seal/reservoir interface at 1, 2, 3 and 4 km, one row per depth, model and fluid; and the
-  depths where each model and fluid changes class, ``benchmarks/results/avo_scene_changes.csv``;
+  depths where each model and fluid changes class, ``benchmarks/results/avo_scene_changes.csv``
+  (both with the scene's validity warnings in their ``#`` header);
 - the figures of the documentation page ``docs/user_guide/avo.md``:
   ``docs/carcione2022_avo_class.png`` (AVO class against depth, brine, gas and CO2, every model),
   ``docs/carcione2022_avo_crossplot.png`` (the A-B crossplot of Models 1, 3 and 4: Model 2's
@@ -131,7 +132,9 @@ def main(argv=None):
     ds = run_scene(load_scene(SCENE))
     seconds = time.perf_counter() - t0
     attrs = {**_common.environment_attrs(scene=SCENE), **prov, "run_seconds": round(seconds, 1),
-             "class_threshold": float(ds.avo_class.attrs["threshold"])}
+             "class_threshold": float(ds.avo_class.attrs["threshold"]),
+             # one comment line: the scene's warnings joined by " | "
+             "validity_warnings": " | ".join(ds.attrs.get("validity_warnings", "").splitlines())}
     values = table(ds)
     changes = class_changes(ds)
     _common.write_csv(values, _common.result_path(NAME, "csv"), attrs)
