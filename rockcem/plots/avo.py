@@ -217,7 +217,7 @@ def _held_legend(fig, handles, held, ncols):
 
 # ----------------------------------------------------------------------------- class vs depth
 def avo_class_depth(ds, *, interface=None, fig=None):
-    """AVO class against depth of burial (the chart of Avseth & Lehocki 2016, their Fig. 6):
+    """AVO class against depth of burial (the chart of [AvsethLehocki2016]_, their Fig. 6):
     one column per fluid, one row per interface, one line per model.
 
     The class is on a categorical axis whose ticks and labels are the CF attributes
@@ -556,8 +556,9 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
     -------
     matplotlib.figure.Figure
         ``len(interface) · len(depths) × len(fluid)`` axes in row-major order (interface
-        outer), then a legend (a colour per model; the line styles, in ink, as "solid: Re
-        R_PP (exact)" and, where drawn, "dashed: |R_PP| where complex (beyond critical)").
+        outer), then a legend (a colour per model; the line styles, in ink, as
+        ``"solid: Re R_PP (exact)"`` and, where drawn,
+        ``"dashed: |R_PP| where complex (beyond critical)"``).
         Lines carry the ``gid`` ``"re:<model>"`` and
         ``"magnitude:<model>"`` (the latter only where R_PP is complex).
 
