@@ -116,7 +116,7 @@ def test_scene_descriptions_name_only_shipped_files():
 def test_avo_snippet_prints_the_page_s_classes(tmp_path):
     """The AVO page's snippet runs the shipped stack scene (CO2 through CoolProp) and prints
     Model 4's class at 1-4 km for brine, gas and CO2: the classes of the page's table, which
-    benchmarks/avo_scene.py made; and it writes the two figures."""
+    benchmarks/avo_scene.py made; and it writes its three figures."""
     pytest.importorskip("CoolProp")
     printed = run_page("user_guide/avo.md", tmp_path)
     rows = re.findall(r"^(\d+)\.0\s+(\S+)\s+(\S+)\s+(\S+)\s*$", printed, re.M)
@@ -126,4 +126,5 @@ def test_avo_snippet_prints_the_page_s_classes(tmp_path):
         r"[-\d.]+ \| (\w+) \| [-\d.]+ \| [-\d.]+ \| (\w+) \|$", text, re.M)}
     assert sorted(table) == ["1000", "2000", "3000", "4000"]
     assert {z: (b, g, c) for z, b, g, c in rows} == table
-    assert (tmp_path / "avo_class.png").is_file() and (tmp_path / "avo_crossplot.png").is_file()
+    for name in ("avo_class.png", "avo_crossplot.png", "avo_synthetic.png"):
+        assert (tmp_path / name).is_file(), name
