@@ -2,14 +2,14 @@
 intercept, gradient and AVO class at every interface, depth, model and fluid, and the
 synthetics of the layered column.
 
-Private to the scene runner. The physics is :mod:`rockcem.reflectivity` (Zoeppritz 1919 in the
-form of Aki & Richards 1980, eq. 5.40; Shuey 1985; the classes of Rutherford & Williams 1989,
-Ross & Kinman 1995 and Castagna & Swan 1997) and :mod:`rockcem.synthetics` (depth to two-way
-time, Ricker 1953 wavelet, the convolutional model); this module only feeds them both sides of
-each interface (:func:`rockcem._stack_dataset.interface_properties`) and the column, and names
-the results.
+Private to the scene runner. The physics is :mod:`rockcem.reflectivity` ([Zoeppritz1919]_ in
+the form of eq. 5.40 of [AkiRichards1980]_; [Shuey1985]_; the classes of
+[RutherfordWilliams1989]_, [RossKinman1995]_ and [CastagnaSwan1997]_) and
+:mod:`rockcem.synthetics` (depth to two-way time, the wavelet of [Ricker1953]_, the
+convolutional model of [Yilmaz2001]_); this module only feeds them both sides of each interface
+(:func:`rockcem._stack_dataset.interface_properties`) and the column, and names the results.
 
-The interface is swept along depth (Avseth & Lehocki 2016): at depth ``z`` the upper layer's
+The interface is swept along depth ([AvsethLehocki2016]_): at depth ``z`` the upper layer's
 rock and the lower layer's rock are both the rock their burial models give at ``z``, as if the
 interface lay at ``z``. A depth where either side has no value (a model that is out of its
 range there) gets NaN, counted in the variable's ``missing_inputs`` attribute.

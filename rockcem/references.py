@@ -123,6 +123,49 @@ REFERENCES: dict[str, str] = {
         "Standing, M. B., 1947. A pressure-volume-temperature correlation for mixtures of "
         "California oils and gases. Drilling and Production Practice, API, 275-287."
     ),
+    "AkiRichards1980": (
+        "Aki, K., and Richards, P. G., 1980. Quantitative Seismology, vol. 1. Freeman, San "
+        "Francisco."
+    ),
+    "Zoeppritz1919": (
+        "Zoeppritz, K., 1919. Erdbebenwellen VII. VIIb. Über Reflexion und Durchgang seismischer "
+        "Wellen durch Unstetigkeitsflächen. Nachrichten der Königlichen Gesellschaft der "
+        "Wissenschaften zu Göttingen, Mathematisch-physikalische Klasse, 66-84."
+    ),
+    "Shuey1985": (
+        "Shuey, R. T., 1985. A simplification of the Zoeppritz equations. Geophysics 50, 609-614."
+    ),
+    "RutherfordWilliams1989": (
+        "Rutherford, S. R., and Williams, R. H., 1989. Amplitude-versus-offset variations in gas "
+        "sands. Geophysics 54, 680-688."
+    ),
+    "RossKinman1995": (
+        "Ross, C. P., and Kinman, D. L., 1995. Nonbright-spot AVO: two examples. Geophysics 60, "
+        "1398-1408."
+    ),
+    "CastagnaSwan1997": (
+        "Castagna, J. P., and Swan, H. W., 1997. Principles of AVO crossplotting. The Leading "
+        "Edge 16, 337-342."
+    ),
+    "Castagna1998": (
+        "Castagna, J. P., Swan, H. W., and Foster, D. J., 1998. Framework for AVO gradient and "
+        "intercept interpretation. Geophysics 63, 948-956."
+    ),
+    "Hilterman2001": (
+        "Hilterman, F. J., 2001. Seismic Amplitude Interpretation. SEG/EAGE Distinguished "
+        "Instructor Short Course 4."
+    ),
+    "Ricker1953": (
+        "Ricker, N., 1953. The form and laws of propagation of seismic wavelets. Geophysics 18, "
+        "10-40."
+    ),
+    "Yilmaz2001": (
+        "Yilmaz, O., 2001. Seismic Data Analysis. Society of Exploration Geophysicists, Tulsa."
+    ),
+    "AvsethLehocki2016": (
+        "Avseth, P., and Lehocki, I., 2016. Combining burial history and rock-physics modeling to "
+        "constrain AVO analysis during exploration. The Leading Edge 35, 528-534."
+    ),
     "IAPWS1997": (
         "Wagner, W., et al., 2000. The IAPWS industrial formulation 1997 for the thermodynamic "
         "properties of water and steam. J. Eng. Gas Turbines Power 122, 150-182."

@@ -1,9 +1,9 @@
 """Plane-wave reflection of P waves at a welded interface between two isotropic solids, and AVO.
 
-The exact PP reflection coefficient (Zoeppritz 1919, in the explicit form of Aki & Richards
-1980), its linearisations (Aki & Richards 1980; Shuey 1985), the intercept, gradient and
-curvature, the AVO class of an interface (Rutherford & Williams 1989; Ross & Kinman 1995;
-Castagna & Swan 1997) and the critical angle.
+The exact PP reflection coefficient ([Zoeppritz1919]_, in the explicit form of
+[AkiRichards1980]_), its linearisations ([AkiRichards1980]_; [Shuey1985]_), the intercept,
+gradient and curvature, the AVO class of an interface ([RutherfordWilliams1989]_;
+[RossKinman1995]_; [CastagnaSwan1997]_) and the critical angle.
 
 Medium 1 lies above the interface, medium 2 below; a plane P wave is incident from medium 1 at
 ``angle`` degrees from the vertical. Units: velocities in km/s, densities in g/cm³, angles in
@@ -27,7 +27,10 @@ Inputs must describe isotropic solids: ``0 < vs < vp * sqrt(3)/2`` (a positive s
 positive bulk modulus, ``K = rho (vp**2 - 4/3 vs**2)``); a liquid layer (``vs = 0``) is outside
 these functions.
 
-The literature cited in the docstrings below, by author and year:
+The literature cited in the docstrings below, by author and year (the keys of
+:data:`rockcem.references.REFERENCES`: [AkiRichards1980]_, [CastagnaSwan1997]_,
+[Castagna1998]_, [Hilterman2001]_, [RossKinman1995]_, [RutherfordWilliams1989]_,
+[Shuey1985]_, [Zoeppritz1919]_):
 
 - Aki, K., and Richards, P. G., 1980. Quantitative Seismology, vol. 1. Freeman, San Francisco.
 - Castagna, J. P., and Swan, H. W., 1997. Principles of AVO crossplotting. The Leading Edge 16,
@@ -201,8 +204,8 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     """Exact PP reflection coefficient of a plane P wave at a solid-solid interface.
 
     The solution of the four boundary conditions of a welded interface (continuity of the two
-    displacement and the two traction components; Zoeppritz 1919), in the explicit form of Aki &
-    Richards (1980), eq. 5.40 (section 5.2.4):
+    displacement and the two traction components; [Zoeppritz1919]_), in the explicit form of
+    eq. 5.40 of [AkiRichards1980]_ (section 5.2.4):
 
     .. math::
 
@@ -265,7 +268,7 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
 @labelled(units="1")
 def zoeppritz_scattering(vp1, vs1, rho1, vp2, vs2, rho2, angle) -> Scattering:
     """The four waves scattered by a P wave incident from above: a numerical solution of the 4x4
-    system of boundary conditions (Zoeppritz 1919; Aki & Richards 1980, eq. 5.39), and their
+    system of boundary conditions ([Zoeppritz1919]_; eq. 5.39 of [AkiRichards1980]_), and their
     energy fluxes.
 
     Each wave is :math:`A\\,\\mathbf{d}\\exp[i\\omega(\\mathbf{s}\\cdot\\mathbf{x} - t)]` with
@@ -339,7 +342,7 @@ def _contrasts(vp1, vs1, rho1, vp2, vs2, rho2):
 
 @labelled(units="1")
 def aki_richards_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
-    """PP reflection coefficient linearised in the contrasts, Aki & Richards (1980), eq. 5.44.
+    """PP reflection coefficient linearised in the contrasts, eq. 5.44 of [AkiRichards1980]_.
 
     .. math::
 
@@ -391,9 +394,9 @@ def _shuey_terms(vp1, vs1, rho1, vp2, vs2, rho2):
 def intercept_gradient(vp1, vs1, rho1, vp2, vs2, rho2) -> AVOTerms:
     """Shuey's intercept, gradient and curvature of the Aki-Richards linearisation.
 
-    Shuey (1985), in the form in P and S velocities and density that the Aki & Richards (1980)
-    eq. 5.44 takes when its mean angle is replaced by the incidence angle and :math:`p` by
-    :math:`\\sin\\theta/\\alpha` (as in Castagna et al. 1998):
+    [Shuey1985]_, in the form in P and S velocities and density that eq. 5.44 of
+    [AkiRichards1980]_ takes when its mean angle is replaced by the incidence angle and
+    :math:`p` by :math:`\\sin\\theta/\\alpha` (as in [Castagna1998]_):
 
     .. math::
 
@@ -431,7 +434,7 @@ def intercept_gradient(vp1, vs1, rho1, vp2, vs2, rho2) -> AVOTerms:
 
 @labelled(units="1")
 def shuey_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle, terms=3):
-    """Shuey's (1985) approximation of the PP reflection coefficient, two or three terms.
+    """Shuey's approximation of the PP reflection coefficient ([Shuey1985]_), two or three terms.
 
     .. math:: R(\\theta) = A + B\\sin^2\\theta + C(\\tan^2\\theta - \\sin^2\\theta)
 
@@ -468,10 +471,10 @@ def shuey_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle, terms=3):
 def avo_class(intercept, gradient, *, threshold=AVO_THRESHOLD):
     """AVO class of an interface from its intercept A and gradient B.
 
-    The classes of Rutherford & Williams (1989) (I, II, III by the normal-incidence contrast),
+    The classes of [RutherfordWilliams1989]_ (I, II, III by the normal-incidence contrast),
     with II split into IIp (positive intercept, polarity reversal) and II (negative intercept) by
-    Ross & Kinman (1995), and class IV of Castagna & Swan (1997), placed in the A-B plane as by
-    Castagna & Swan (1997) and Castagna et al. (1998):
+    [RossKinman1995]_, and class IV of [CastagnaSwan1997]_, placed in the A-B plane as by
+    [CastagnaSwan1997]_ and [Castagna1998]_:
 
     ======  ====================  ===================
     code    class                 rule
@@ -493,7 +496,7 @@ def avo_class(intercept, gradient, *, threshold=AVO_THRESHOLD):
         The largest ``|A|`` of a "near-zero" intercept (classes IIp and II), in (0, 1). The
         sources describe class II as a near-zero impedance contrast and give no number; the
         default :data:`AVO_THRESHOLD` (0.03) is this project's choice: it puts the class II gas
-        sand of Hilterman (2001) (A = -0.023) in class II and his class I sand (A = 0.09) in I.
+        sand of [Hilterman2001]_ (A = -0.023) in class II and his class I sand (A = 0.09) in I.
 
     Returns
     -------
@@ -528,7 +531,7 @@ def critical_angle(v1, v2):
     """Critical angle of a wave of velocity ``v1`` incident on a medium of velocity ``v2``.
 
     :math:`\\theta_c = \\arcsin(v_1/v_2)` where :math:`v_2 > v_1` (Snell's law with a grazing
-    transmitted wave; Aki & Richards 1980, section 5.2.4), and 90 degrees where :math:`v_2 \\le
+    transmitted wave; [AkiRichards1980]_, section 5.2.4), and 90 degrees where :math:`v_2 \\le
     v_1`: there is then no critical angle, and every angle of incidence below 90 transmits. Never
     NaN. For the PP critical angle give ``vp1, vp2``; for the one beyond which the transmitted S
     wave is evanescent ``vp1, vs2``.

@@ -9,9 +9,10 @@ The functions take numpy arrays (and lists); pandas and xarray inputs are refuse
 because they work along the depth axis, which :func:`rockcem.validation.labelled` does not know:
 give ``da.transpose(..., "depth").values`` or ``series.to_numpy()``.
 
-Sources: Ricker, N., 1953. The form and laws of propagation of seismic wavelets. Geophysics 18,
-10-40; the convolutional model of a layered earth: Yilmaz, O., 2001. Seismic Data Analysis, SEG,
-chapter 2; reflection coefficients from :mod:`rockcem.reflectivity`.
+Sources: the wavelet of [Ricker1953]_ (Ricker, N., 1953. The form and laws of propagation of
+seismic wavelets. Geophysics 18, 10-40); the convolutional model of a layered earth, chapter 2 of
+[Yilmaz2001]_ (Yilmaz, O., 2001. Seismic Data Analysis, SEG); reflection coefficients from
+:mod:`rockcem.reflectivity`.
 """
 
 from __future__ import annotations
@@ -152,7 +153,7 @@ def depth_to_twt(depth, vp, *, datum_velocity=None):
 
 
 def ricker(frequency, dt, *, length=None) -> Wavelet:
-    """Zero-phase Ricker wavelet (Ricker 1953), peak amplitude 1 at time 0.
+    """Zero-phase Ricker wavelet ([Ricker1953]_), peak amplitude 1 at time 0.
 
     .. math:: w(t) = (1 - 2\\pi^2 f^2 t^2)\\, e^{-\\pi^2 f^2 t^2}
 
@@ -333,7 +334,7 @@ def synthetic_trace(depth, vp, vs, rho, *, dt, wavelet, angle=0.0, datum_velocit
     .. math:: s(t_j) = \\sum_k r(t_k)\\, w(t_j - t_k)
 
     (the convolutional model of a layered earth, primaries only, no transmission losses or
-    multiples; Yilmaz 2001, chapter 2), the wavelet's time 0 aligned with each reflection.
+    multiples; [Yilmaz2001]_, chapter 2), the wavelet's time 0 aligned with each reflection.
 
     Parameters
     ----------

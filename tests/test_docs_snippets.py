@@ -19,7 +19,8 @@ DOCS = ROOT / "docs"
 
 #: Pages whose Python is run.
 PAGES = ["getting_started.md", "user_guide/pore_fluids.md", "user_guide/wells.md",
-         "user_guide/burial.md", "user_guide/models.md", "user_guide/labelled_inputs.md"]
+         "user_guide/burial.md", "user_guide/models.md", "user_guide/labelled_inputs.md",
+         "user_guide/avo.md"]
 #: Pages with Python that is not run here, and why.
 NOT_RUN = {"user_guide/md_engine.md": "settles an MD pack; the first run compiles numba's "
                                       "kernels (minutes on a cold cache; tests/md covers it)"}
@@ -110,3 +111,20 @@ def test_scene_descriptions_name_only_shipped_files():
         assert not re.search(r"\b(docs|benchmarks|notebooks|tests)/", description), name
         for file in re.findall(r"[\w./-]+\.(?:py|md|ipynb|toml|csv|las|nc)\b", description):
             assert Path(file).name in shipped, (name, file)
+
+
+def test_avo_snippet_prints_the_page_s_classes(tmp_path):
+    """The AVO page's snippet runs the shipped stack scene (CO2 through CoolProp) and prints
+    Model 4's class at 1-4 km for brine, gas and CO2: the classes of the page's table, which
+    benchmarks/avo_scene.py made; and it writes its three figures."""
+    pytest.importorskip("CoolProp")
+    printed = run_page("user_guide/avo.md", tmp_path)
+    rows = re.findall(r"^(\d+)\.0\s+(\S+)\s+(\S+)\s+(\S+)\s*$", printed, re.M)
+    text = (DOCS / "user_guide/avo.md").read_text(encoding="utf-8")
+    table = {m[0]: (m[1], m[2], m[3]) for m in re.findall(
+        r"^\| (\d+) \| 4 \(patchy cement\) \| [-\d.]+ \| [-\d.]+ \| (\w+) \| [-\d.]+ \| "
+        r"[-\d.]+ \| (\w+) \| [-\d.]+ \| [-\d.]+ \| (\w+) \|$", text, re.M)}
+    assert sorted(table) == ["1000", "2000", "3000", "4000"]
+    assert {z: (b, g, c) for z, b, g, c in rows} == table
+    for name in ("avo_class.png", "avo_crossplot.png", "avo_synthetic.png"):
+        assert (tmp_path / name).is_file(), name

@@ -35,6 +35,9 @@ _FLUID_NAMES = {"co2": "CO₂", "brine": "brine", "gas": "gas", "oil": "oil"}
 _LABEL_ROOM = 0.03
 #: The most depths of a trajectory the crossplot marks (coloured by depth); past it every k-th.
 _MARKED = 40
+#: The most traces an angle gather draws; with more angles, every k-th from the first (so that
+#: the wiggles of a gather of 41 angles on a panel a few inches wide stay apart and readable).
+_GATHER_TRACES = 11
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -164,8 +167,9 @@ def class_threshold(ds) -> float:
 
 def _classify(intercept, gradient, threshold):
     """AVO class codes of intercept A and gradient B (:func:`rockcem.reflectivity.avo_class`):
-    the classes of Rutherford & Williams (1989) with Ross & Kinman's (1995) IIp and Castagna & Swan's (1997) IV, placed in
-    the A-B plane as by Castagna & Swan (1997, Table 1), by a threshold ``t`` on A:
+    the classes of Rutherford & Williams (1989) with Ross & Kinman's (1995) IIp and Castagna &
+    Swan's (1997) IV, placed in the A-B plane as by Castagna & Swan (1997, Table 1), by a
+    threshold ``t`` on A:
 
     ========  =================  ======
     class     intercept A        B
@@ -213,7 +217,7 @@ def _held_legend(fig, handles, held, ncols):
 
 # ----------------------------------------------------------------------------- class vs depth
 def avo_class_depth(ds, *, interface=None, fig=None):
-    """AVO class against depth of burial (the chart of Avseth & Lehocki 2016, their Fig. 6):
+    """AVO class against depth of burial (the chart of [AvsethLehocki2016]_, their Fig. 6):
     one column per fluid, one row per interface, one line per model.
 
     The class is on a categorical axis whose ticks and labels are the CF attributes
@@ -552,7 +556,10 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
     -------
     matplotlib.figure.Figure
         ``len(interface) · len(depths) × len(fluid)`` axes in row-major order (interface
-        outer), then a legend. Lines carry the ``gid`` ``"re:<model>"`` and
+        outer), then a legend (a colour per model; the line styles, in ink, as
+        ``"solid: Re R_PP (exact)"`` and, where drawn,
+        ``"dashed: |R_PP| where complex (beyond critical)"``).
+        Lines carry the ``gid`` ``"re:<model>"`` and
         ``"magnitude:<model>"`` (the latter only where R_PP is complex).
 
     Raises
@@ -632,11 +639,11 @@ def reflectivity_angle(ds, depths, *, interface=None, fig=None):
         ax.set_xlim(angle.min(), angle.max())
         handles = [Line2D([], [], linewidth=1.4, **_model_line(m, i))
                    for i, m in enumerate(models) if m]
-        handles.append(Line2D([], [], color=_INK, linewidth=1.4, label="Re R_PP (exact)"))
+        handles.append(Line2D([], [], color=_INK, linewidth=1.4, label="solid: Re R_PP (exact)"))
         if any(str(ln.get_gid()).startswith("magnitude:") for ax in axes.flat
                for ln in ax.get_lines()):
             handles.append(Line2D([], [], color=_INK, linewidth=1.2, linestyle=(0, (4, 2)),
-                                  label="|R_PP| where complex (beyond critical)"))
+                                  label="dashed: |R_PP| where complex (beyond critical)"))
         title = "; ".join(t for t in (held, interfaces[0] if len(interfaces) == 1
                                       and interfaces[0] else "") if t)
         _held_legend(fig, handles, title, min(len(handles), 3))
@@ -652,7 +659,9 @@ def synthetic_section(ds, *, scale="common", fig=None):
     filled in the model's colour), two-way time increasing downward. Where ``ds`` has
     ``angle_gather`` (dimensions ``fluid``, ``model``, ``angle`` and ``gather_twt``, its own
     time window, or ``twt``), one row per model
-    follows with that model's gather: a trace per angle, positive lobes filled. With
+    follows with that model's gather: a trace per angle (at most :data:`_GATHER_TRACES`: with
+    more angles every k-th, from the first, k the smallest that keeps the count within it),
+    positive lobes filled. With
     ``scale="common"`` every trace of a row is scaled by one gain, so that the largest
     amplitude of the row spans 0.45 of the trace spacing: amplitudes compare across fluids and
     models (and across angles); with ``scale="trace"`` each trace (each gather) by its own, so
@@ -712,10 +721,12 @@ def synthetic_section(ds, *, scale="common", fig=None):
         if not {tdim, "angle"} <= set(ds["angle_gather"].dims):
             raise ValueError("angle_gather must have the dimensions angle and twt (or "
                              "gather_twt)")
-        gather = ds["angle_gather"].transpose("fluid", "model", "angle", tdim).values
-        gather = gather.astype(float)
-        gather_twt = np.asarray(ds[tdim].values, dtype=float)
         angle = np.asarray(ds["angle"].values, dtype=float)
+        every = max(1, -(-(angle.size - 1) // (_GATHER_TRACES - 1)))
+        gather = ds["angle_gather"].transpose("fluid", "model", "angle", tdim).values
+        gather = gather[:, :, ::every].astype(float)
+        angle = angle[::every]
+        gather_twt = np.asarray(ds[tdim].values, dtype=float)
     rows = 1 + (len(models) if gather is not None else 0)
 
     import matplotlib.pyplot as plt

@@ -180,7 +180,8 @@ def test_two_interfaces_are_rows_and_panels_and_one_can_be_chosen():
     ds["synthetic"] = upper["synthetic"]
     fig = plots.avo_class_depth(ds)
     assert [ax.get_title() for ax in fig.axes] == [
-        f"{f}, {i}" for i in ("seal/reservoir", "reservoir/base") for f in ("Brine", "Gas", "CO₂")]
+        f"{f}, {i}" for i in ("seal/reservoir", "reservoir/base")
+        for f in ("Brine", "Gas", "CO₂")]
     fig = plots.intercept_gradient_crossplot(ds)
     panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
     assert [ax.get_title() for ax in panels] == ["seal/reservoir", "reservoir/base"]
@@ -319,10 +320,12 @@ def test_reflectivity_angle_draws_re_and_magnitude_beyond_critical():
         drawn = np.isfinite(x)
         assert np.array_equal(x[drawn], ANGLE[ANGLE > critical])
         assert np.allclose(y[drawn], 1.0, rtol=0, atol=1e-12)   # total reflection
+    # the ink entries of the legend name the line style they stand for, not a curve
     texts = [t.get_text() for t in fig.legends[0].get_texts()]
-    assert "|R_PP| where complex (beyond critical)" in texts
+    assert texts[-2:] == ["solid: Re R_PP (exact)",
+                          "dashed: |R_PP| where complex (beyond critical)"]
     fig = plots.reflectivity_angle(stack().sel(fluid=["gas", "co2"]), [2000.0])
-    assert "|R_PP| where complex (beyond critical)" not in [
+    assert "dashed: |R_PP| where complex (beyond critical)" not in [
         t.get_text() for t in fig.legends[0].get_texts()]
 
 
@@ -362,8 +365,9 @@ def test_synthetic_section_scaled_trace_by_trace():
                                rtol=0, atol=1e-12)
     gather = ds["angle_gather"].values[0, 0]                  # brine, first model
     lines = by_gid(fig.axes[len(FLUIDS)], "gather:hs_gassmann:")
-    widest = max(np.abs(ln.get_xdata() - a).max() for ln, a in zip(lines, ANGLE))
-    assert widest == pytest.approx(0.45 * 2.0)                # 0.45 of the 2° spacing
+    drawn = ANGLE[::3]                                        # 31 angles: every 3rd, 11
+    widest = max(np.abs(ln.get_xdata() - a).max() for ln, a in zip(lines, drawn))
+    assert widest == pytest.approx(0.45 * 6.0)                # 0.45 of the 6° spacing
     assert np.abs(gather).max() > 0
     assert "each trace scaled to its own peak" in fig.legends[0].get_title().get_text()
     with pytest.raises(ValueError, match="scale must be 'common' or 'trace'; got 'loud'"):
@@ -388,8 +392,25 @@ def test_synthetic_section_adds_the_angle_gathers():
     fig = plots.synthetic_section(stack(gather=True))
     assert len(fig.axes) == (1 + len(MODELS)) * len(FLUIDS)
     gather = fig.axes[len(FLUIDS)]                 # the first model's gather, brine
-    assert len(by_gid(gather, "gather:hs_gassmann:")) == ANGLE.size
     assert gather.get_title() == "Brine: Model 1 gather"
+    # 31 angles 0-60° by 2°: at most 11 traces, every 3rd (0, 6, ..., 60), each the
+    # Dataset's trace at its angle
+    lines = by_gid(gather, "gather:hs_gassmann:")
+    assert [ln.get_gid() for ln in lines] == [f"gather:hs_gassmann:{a:g}"
+                                              for a in np.arange(0.0, 61.0, 6.0)]
+    gathers = stack(gather=True)["angle_gather"]
+    values = gathers.sel(fluid="brine", model="hs_gassmann")
+    gain = 0.45 * 6.0 / np.abs(gathers.values).max()    # one gain (the peak is at 0°, drawn)
+    for line in lines[1:3]:
+        angle = float(line.get_gid().split(":")[-1])
+        expected = angle + gain * values.sel(angle=angle).values
+        assert np.allclose(line.get_xdata(), expected, rtol=0, atol=1e-12)
+
+
+def test_a_gather_of_few_angles_draws_every_one():
+    ds = stack(gather=True).isel(angle=slice(0, 11))          # 11 angles: all drawn
+    fig = plots.synthetic_section(ds)
+    assert len(by_gid(fig.axes[len(FLUIDS)], "gather:hs_gassmann:")) == 11
 
 
 # ----------------------------------------------------------------------------- CLI
