@@ -101,8 +101,12 @@ def add_seismic(ds, scene):
         "threshold": float(seismic["class_threshold"]),
         "comment": "0: no class (no contrast, A >= 0 with B >= 0, or no rock on one side)",
         **common})
+    keys = ["AvsethLehocki2016", "Zoeppritz1919", "AkiRichards1980", "Shuey1985",
+            "RutherfordWilliams1989", "RossKinman1995", "CastagnaSwan1997"]
     if "column_vp" in ds:
         _add_synthetics(ds, seismic, angles)
+        keys += ["Ricker1953", "Yilmaz2001"]
+    _cite(ds, keys)
     from .variables import no_coordinate_fill
 
     return no_coordinate_fill(ds)
@@ -156,3 +160,13 @@ def _layer_tops(ds):
     depth = ds["depth"].values
     change = np.flatnonzero(names[1:] != names[:-1]) + 1
     return depth[change]
+
+
+def _cite(ds, keys):
+    """Add the seismic sources to the Dataset's ``references`` attribute (one line a key)."""
+    from .references import REFERENCES
+
+    lines = [line for line in ds.attrs.get("references", "").split("\n") if line]
+    lines += [f"[{k}] {REFERENCES[k]}" for k in keys
+              if not any(line.startswith(f"[{k}]") for line in lines)]
+    ds.attrs["references"] = "\n".join(lines)

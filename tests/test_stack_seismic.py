@@ -85,6 +85,12 @@ def test_intercept_gradient_and_class_follow_shuey_by_hand(ds):
     np.testing.assert_array_equal(ds["avo_class"].attrs["flag_values"], [1, 2, 3, 4, 5])
 
 
+def test_seismic_sources_in_the_references(ds):
+    refs = ds.attrs["references"]
+    for key in ("[Zoeppritz1919]", "[Shuey1985]", "[Ricker1953]", "[Carcione2022]"):
+        assert key in refs
+
+
 def test_angles_and_magnitude(ds):
     np.testing.assert_array_equal(ds["angle"].values, [0, 5, 10, 15, 20, 25, 30])
     r = ds["reflectivity_pp"]
