@@ -127,9 +127,9 @@ LU_MAX_DOF = 30_000
 #: on well-connected cement the factor fills in (half-filled pores of 3e5, degree 6.5: 80 s
 #: and 2.2 GB) and conjugate gradients converge in a few hundred to a thousand iterations. On the shipped example's members (docs/studies/md_static_solver.md,
 #: the five loads of :func:`static_stiffness`), the full sample (degree 10) of 4.9e4 free dof
-#: took 14.6 s with SuperLU and 2.5 s with conjugate gradients, the 0.67-saturated coating
-#: (degree 6) of 1.1e5 28.6 s and 4.3 s, while at 2.9e4 (degree 4.4) the factor was the
-#: faster, 2.1 s against 2.6 s.
+#: took 14.8 s with SuperLU and 1.8 s with conjugate gradients, the 0.67-saturated coating
+#: (degree 6) of 1.1e5 28.2 s with CHOLMOD's Cholesky factor and 4.4 s, while at 2.9e4
+#: (degree 4.4) SuperLU was the faster, 1.5 s against 1.8 s.
 LU_MAX_DOF_FILM = 1_000_000
 FILM_DEGREE = 4.0
 
