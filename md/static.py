@@ -125,11 +125,12 @@ LU_MAX_DOF = 30_000
 #: cement's shape more than on its size: a thin coating of 3e5 free dof (mean lattice degree
 #: 2) factorises in 7 s, where block-Jacobi conjugate gradients need 10^4 iterations or more;
 #: on well-connected cement the factor fills in (half-filled pores of 3e5, degree 6.5: 80 s
-#: and 2.2 GB) and conjugate gradients converge in a few hundred to a thousand iterations. On the shipped example's members (docs/studies/md_static_solver.md,
-#: the five loads of :func:`static_stiffness`), the full sample (degree 10) of 4.9e4 free dof
-#: took 14.8 s with SuperLU and 1.8 s with conjugate gradients, the 0.67-saturated coating
-#: (degree 6) of 1.1e5 28.2 s with CHOLMOD's Cholesky factor and 4.4 s, while at 2.9e4
-#: (degree 4.4) SuperLU was the faster, 1.5 s against 1.8 s.
+#: and 2.2 GB) and conjugate gradients converge in a few hundred to a thousand iterations.
+#: On the shipped example's members (docs/studies/md_static_solver.md, the five loads of
+#: :func:`static_stiffness`), the full sample (degree 10) of 4.9e4 free dof took 14.8 s with
+#: SuperLU and 1.8 s with conjugate gradients, the 0.67-saturated coating (degree 6) of 1.1e5
+#: 28.2 s with CHOLMOD's Cholesky factor and 4.4 s, while at 2.9e4 (degree 4.4) SuperLU was
+#: the faster, 1.5 s against 1.8 s.
 LU_MAX_DOF_FILM = 1_000_000
 FILM_DEGREE = 4.0
 
