@@ -115,18 +115,22 @@ def _bonds_among(system: AcousticSystem, keep):
     return dataclasses.replace(system, lattice_neighbors=table, **sub)
 
 
-#: Static solvers: "lu" factorises K_ff once (fast and exact below some 10^5 free degrees of
-#: freedom), "cg" iterates with a block-Jacobi preconditioner (little memory), "auto" picks.
+#: Static solvers: "lu" factorises K_ff once (fast and exact on film-like cement and small
+#: samples), "cg" iterates with a block-Jacobi preconditioner (little memory), "auto" picks.
 SOLVERS = ("auto", "lu", "cg")
 #: Largest number of free degrees of freedom "auto" factorises ...
-LU_MAX_DOF = 100_000
+LU_MAX_DOF = 30_000
 #: ... and, where the cement is film-like (its particles have on average at most
 #: :data:`FILM_DEGREE` lattice bonds), the larger bound. The factor's cost depends on the
 #: cement's shape more than on its size: a thin coating of 3e5 free dof (mean lattice degree
-#: 2) factorises in 7 s, half-filled pores of 3e5 (degree 6.5) take 80 s and 2.2 GB (of 1.8e5,
-#: 16 s and 2.5 GB at the peak; 6.4 GB near 4e5), where block-Jacobi conjugate gradients,
-#: which converge in a few hundred iterations on such well-connected cement, take 35 s; on a
-#: thin coating they need 10^4 iterations or more.
+#: 2) factorises in 7 s, where block-Jacobi conjugate gradients need 10^4 iterations or more;
+#: on well-connected cement the factor fills in (half-filled pores of 3e5, degree 6.5: 80 s
+#: and 2.2 GB) and conjugate gradients converge in a few hundred to a thousand iterations.
+#: On the shipped example's members (docs/studies/md_static_solver.md, the five loads of
+#: :func:`static_stiffness`), the full sample (degree 10) of 4.9e4 free dof took 14.8 s with
+#: SuperLU and 1.8 s with conjugate gradients, the 0.67-saturated coating (degree 6) of 1.1e5
+#: 28.2 s with CHOLMOD's Cholesky factor and 4.4 s, while at 2.9e4 (degree 4.4) SuperLU was
+#: the faster, 1.5 s against 1.8 s.
 LU_MAX_DOF_FILM = 1_000_000
 FILM_DEGREE = 4.0
 
@@ -627,20 +631,17 @@ def _block_jacobi(system, free, free_idx, parallel):
     return apply_, precondition
 
 
-def _lu_preconditioner(system, K, free, free_idx, shift=1e-10):
-    """Operator and preconditioner of :func:`_pcg` for ``solver="lu"``: a sparse LU factor
-    (SuperLU, :func:`scipy.sparse.linalg.splu`, minimum-degree ordering of
-    :math:`A^T + A`, no pivoting: the matrix is symmetric positive definite) of
-    :math:`D^{-1/2} K_{ff} D^{-1/2} + N N^T + \\delta I`, :math:`D` the diagonal.
+def _pinned_matrix(system, K, free, free_idx, shift=1e-10):
+    """The symmetric positive definite matrix that ``solver="lu"`` factorises,
+    :math:`A = D^{-1/2} K_{ff} D^{-1/2} + N N^T + \\delta I` (CSC; :math:`D` the diagonal of
+    :math:`K_{ff}`), and the scale :math:`D^{-1/2}` (a vector).
 
     :math:`N` holds each particle's own mechanisms — unit null vectors of its scaled block, such
     as a cement particle bonded at two points turning about the line through them — which are
     exact null vectors of the whole scaled matrix, so pinning them changes nothing on its range;
     the shift :math:`\\delta` (1e-10; 1e-8 to 1e-12 agree to 1e-8 in the modulus) covers the
-    mechanisms several particles share. The preconditioned iterations then refine the factor's
-    solution on the unmodified :math:`K_{ff}`, in two to five steps."""
+    mechanisms several particles share."""
     import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
 
     unit, _ = _unit_blocks(system, free)
     lam, vec = np.linalg.eigh(unit)
@@ -654,14 +655,36 @@ def _lu_preconditioner(system, K, free, free_idx, shift=1e-10):
     N = sp.csr_matrix((null[on], (rows[on], cols[on])), shape=(free_idx.size, part.size))
     sc = 1.0 / np.sqrt(K.diagonal())
     A = sp.diags(sc) @ K @ sp.diags(sc) + N @ N.T + shift * sp.identity(free_idx.size)
-    lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+    return A.tocsc(), sc
+
+
+def _factorise(A):
+    """The solve :math:`b \\mapsto A^{-1} b` of a sparse LU factor of the symmetric positive
+    definite ``A`` (CSC): SuperLU (Li 2005; :func:`scipy.sparse.linalg.splu`), minimum-degree
+    ordering of :math:`A^T + A`, no pivoting. (A sparse Cholesky factor, CHOLMOD through
+    ``cholespy``, or MKL PARDISO's, was measured in its place and not taken:
+    docs/studies/md_static_solver.md.)"""
+    import scipy.sparse.linalg as spla
+
+    lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
+    return lu.solve
+
+
+def _lu_preconditioner(system, K, free, free_idx, shift=1e-10):
+    """Operator and preconditioner of :func:`_pcg` for ``solver="lu"``: the sparse factor
+    (:func:`_factorise`) of the pinned, scaled and shifted
+    :math:`A = D^{-1/2} K_{ff} D^{-1/2} + N N^T + \\delta I` (:func:`_pinned_matrix`). The
+    preconditioned iterations then refine the factor's solution on the unmodified
+    :math:`K_{ff}`, in two to five steps."""
+    A, sc = _pinned_matrix(system, K, free, free_idx, shift)
+    solve = _factorise(A)
 
     def apply_(p, q):
         q[:] = K @ p
 
     def precondition(r, z):
-        z[:] = sc * lu.solve(sc * r)
+        z[:] = sc * solve(sc * r)
 
     return apply_, precondition
 
