@@ -694,7 +694,7 @@ def acoustic_system(pack: Pack, lattice: CementLattice | None = None, cemented=N
 
 
 def _lump_free_film(positions, masses, inertia, bonds, table, film, owner, n_g, box, meta):
-    """Fold into its grain every film cell that joins nothing but that grain.
+    r"""Fold into its grain every film cell that joins nothing but that grain.
 
     A partly filled cell is bonded to its own grain and to film cells of the same grain only
     (:func:`_film_lattice`), so a film no full cell touches is an appendage of its grain: in a

@@ -225,7 +225,7 @@ def zoeppritz_pp(vp1, vs1, rho1, vp2, vs2, rho2, angle):
     Beyond the P critical angle :math:`|R_{PP}| < 1` in general: the transmitted P wave carries
     no energy, but the reflected and (before its own critical angle) the transmitted S waves
     do, so :math:`|R_{PP}|^2` is 1 less their energy fluxes (:func:`zoeppritz_scattering`);
-    only in the acoustic limit (both S velocities going to 0) does :math:`|R_{PP}| \to 1`, with
+    only in the acoustic limit (both S velocities going to 0) does :math:`|R_{PP}| \\to 1`, with
     :math:`1 - |R_{PP}|` proportional to the S velocities.
 
     Parameters
