@@ -83,10 +83,6 @@ def evaluate_stack(scene):
     ds = _build(scene, data, coords, runs, model_of)
     if all(layer.thickness is not None for layer in scene.layers[:-1]):
         _add_column(ds, scene)
-    if "seismic" in scene.sections:
-        from ._stack_seismic import add_seismic
-
-        add_seismic(ds, scene)
     return ds
 
 
