@@ -11,8 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast_phases, check_fractions, check_modulus,
-                          max_phases, min_phases, sum_phases)
+from .validation import (as_array, blockwise, broadcast_phases, check_fractions, check_modulus,
+                          max_phases, min_phases, stack_phases, sum_phases)
 from .elastic import Moduli
 from .validation import labelled
 
@@ -50,6 +50,20 @@ def _phases(K, G, fractions):
     f = check_fractions("fractions", as_array("fractions", fractions))
     f, K, G = broadcast_phases(("fractions", f), K=K, G=G)
     return K, G, f
+
+
+def _by_blocks(fn, K, G, f):
+    """``fn(K, G, f)`` of checked phase arrays (phases on the last axis) in blocks of points
+    (:func:`rockcem.validation.blockwise`): each block's phase arrays stay in cache. ``fn``
+    works point by point and returns arrays of the points' shape."""
+    m = f.shape[-1]
+    columns = [a[..., i] for a in (K, G, f) for i in range(m)]
+
+    def kernel(*c):
+        return fn(*np.broadcast_arrays(stack_phases(*c[:m]), stack_phases(*c[m:2 * m]),
+                                       stack_phases(*c[2 * m:])))
+
+    return blockwise(kernel, *columns)
 
 
 def _harmonic(values, f, shift=0.0):
@@ -126,9 +140,14 @@ def hill(K, G, fractions) -> Moduli:
 
     Same parameters as :func:`voigt`.
     """
-    v = voigt(K, G, fractions)
-    r = reuss(K, G, fractions)
-    return Moduli(0.5 * (v.K + r.K), 0.5 * (v.G + r.G))
+    return Moduli(*_by_blocks(_hill, *_phases(K, G, fractions)))
+
+
+def _hill(K, G, f):
+    """Hill average (K, G) of checked, broadcast phase arrays (:func:`hill`)."""
+    zero = np.zeros(K.shape[:-1])
+    return (0.5 * (sum_phases(f * K) + _harmonic(K, f, zero)),
+            0.5 * (sum_phases(f * G) + _harmonic(G, f, zero)))
 
 
 def _zeta(K, G):
@@ -177,8 +196,12 @@ def hashin_shtrikman(K, G, fractions) -> Bounds:
     >>> round(float(b.K_lower), 4), round(float(b.K_upper), 4)
     (38.4314, 38.4407)
     """
-    K, G, f = _phases(K, G, fractions)
-    return Bounds(*_hs_lower(K, G, f), *_hs_upper(K, G, f))
+    return Bounds(*_by_blocks(_hs_both, *_phases(K, G, fractions)))
+
+
+def _hs_both(K, G, f):
+    """Lower and upper HS bounds (K-, G-, K+, G+) of checked, broadcast phase arrays."""
+    return (*_hs_lower(K, G, f), *_hs_upper(K, G, f))
 
 
 def _hs_upper(K, G, f):
@@ -200,7 +223,7 @@ def _hs_lower(K, G, f):
 @labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
     """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
-    return Moduli(*_hs_upper(*_phases(K, G, fractions)))
+    return Moduli(*_by_blocks(_hs_upper, *_phases(K, G, fractions)))
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))

@@ -324,7 +324,9 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
         thickness=thickness, f=f, delta=delta)
     if scheme not in (1, 2) or isinstance(scheme, bool):
         raise ValueError(f"scheme must be 1 (cement at contacts) or 2 (coating); got {scheme!r}")
-    phi, phip, phic = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
+    # Shapes named together; critical_porosity is kept as given (usually one number), so that
+    # the frame's zero-porosity end member is solved once, not once per point.
+    phi, phip, _ = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
     if np.any(phi + phip > 1.0 + 1e-12):
         raise ValueError("porosity + cement_fraction must not exceed 1")
     for name, value in (("porosity", phi), ("cement_fraction", phip),
