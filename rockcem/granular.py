@@ -110,30 +110,46 @@ def _shapes(_labels=None, **arrays):
 def _zeta(K, G):
     r""":math:`\zeta(K, G) = \frac{G}{6}\frac{9K + 8G}{K + 2G}`, zero where ``G = 0``
     ([Mavko2009]_ Sect. 7.9)."""
-    if np.min(G) > 0.0:             # then K + 2G > 0 too (K >= 0): no guard needed
+    if _lowest(G) > 0.0:            # then K + 2G > 0 too (K >= 0): no guard needed
         return G / 6.0 * (9.0 * K + 8.0 * G) / (K + 2.0 * G)
     denom = K + 2.0 * G
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
 
 
-def _harmonic2(a, b, x, shift):
+def _harmonic2(a, b, x, shift, x1=None):
     r""":math:`[x/(a+s) + (1-x)/(b+s)]^{-1} - s`, clipped at 0: :func:`rockcem.bounds._harmonic`
-    of two phases with fractions ``x`` and ``1 - x``, without stacking them (same operations in
-    the same order where every denominator is positive; that function itself elsewhere)."""
+    of two phases with fractions ``x`` and ``1 - x``, without stacking them. Where every
+    denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a denominator that is one
+    number is inverted once (a product per point instead of a division, within an ulp); other
+    inputs go to that function. ``x1``: ``1 - x`` if the caller has it."""
     da = a + shift
     db = b + shift
-    if np.min(da) > 0.0 and np.min(db) > 0.0:
-        with np.errstate(over="ignore"):        # subnormal denominators: the sum is inf, 1/inf 0
-            total = x / da + (1.0 - x) / db
-        inv = 1.0 / total
-        if not np.isfinite(np.max(total)):
-            inv = np.where(np.isfinite(total), inv, 0.0)
-        if isinstance(inv, np.ndarray) and inv.shape == np.shape(total):
-            inv -= shift                        # in place: inv is a temporary of this function
-            return np.maximum(inv, 0.0, out=inv)
-        return np.maximum(inv - shift, 0.0)
+    if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
+        total = x * (1.0 / da) if np.ndim(da) == 0 else x / da
+        rest = 1.0 - x if x1 is None else x1
+        rest = rest * (1.0 / db) if np.ndim(db) == 0 else rest / db
+        total = _inplace(np.add, total, rest)
+        total = _inplace(np.divide, 1.0, total, out_arg=1)
+        total = _inplace(np.subtract, total, shift)
+        # Clip the cancellation in inv - shift (as that function); rarely anything to clip.
+        return np.maximum(total, 0.0) if _lowest(total) < 0.0 else total
     a, b, x, shift = np.broadcast_arrays(a, b, x, shift)
     return _harmonic(np.stack([a, b], axis=-1), np.stack([x, 1.0 - x], axis=-1), shift)
+
+
+def _inplace(ufunc, a, b, out_arg=0):
+    """``ufunc(a, b)``, written over the temporary ``(a, b)[out_arg]`` where it has the result's
+    shape (a temporary of the caller, never an input)."""
+    tmp, other = (a, b) if out_arg == 0 else (b, a)
+    if isinstance(tmp, np.ndarray) and tmp.ndim and (np.ndim(other) == 0
+                                                     or np.shape(other) == tmp.shape):
+        return ufunc(a, b, out=tmp)
+    return ufunc(a, b)
+
+
+def _lowest(a):
+    """The least element of a checked array or number (``min`` without numpy's dispatch)."""
+    return a.min() if isinstance(a, np.ndarray) else a
 
 
 def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
@@ -150,8 +166,9 @@ def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
     form and the stiffer one for the "stiff" (upper-bound) form ([Mavko2009]_ Sect. 7.9).
     Checked arrays; the results broadcast to the inputs' shape.
     """
-    K = _harmonic2(K_a, K_b, frac_a, 4.0 / 3.0 * G_ref)
-    G = _harmonic2(G_a, G_b, frac_a, _zeta(K_ref, G_ref))
+    frac_b = 1.0 - frac_a
+    K = _harmonic2(K_a, K_b, frac_a, 4.0 / 3.0 * G_ref, frac_b)
+    G = _harmonic2(G_a, G_b, frac_a, _zeta(K_ref, G_ref), frac_b)
     return Moduli(K, G)
 
 

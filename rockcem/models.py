@@ -24,8 +24,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (MAX_DENSITY, as_array, broadcast, broadcast_phases, check_fractions,
-                          check_range, stack_phases, sum_phases)
+from .validation import (BLOCK, MAX_DENSITY, as_array, broadcast, broadcast_phases,
+                          check_fractions, check_range, stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
@@ -78,6 +78,44 @@ def _solids(minerals: Sequence[Mineral], solid_fractions, porosity):
     rho = np.array([m.rho for m in minerals])
     beta, phi_b = broadcast(solid_fractions=beta, porosity=phi[..., None])
     return K, G, rho, beta, phi_b[..., 0]
+
+
+def _by_points(block, points, **const):
+    """``block(**points, **const)`` over blocks of :data:`rockcem.validation.BLOCK` points.
+
+    ``points`` maps a name to ``(array, tail)``: an array over the points with ``tail``
+    trailing axes of its own (1 for phases). The block function sees the same arguments, cut
+    along the points (flattened), so that its temporaries stay in cache; it returns a
+    :class:`RockProperties` over its points. All arithmetic and checks are those of ``block``
+    on each point; it runs on the whole input at once where the points are few, or where their
+    shapes do not broadcast (its own checks then name them).
+    """
+    arrays = {k: np.asarray(v) for k, (v, _) in points.items()}
+    tails = {k: t for k, (_, t) in points.items()}
+    try:
+        shape = np.broadcast_shapes(*(a.shape[:a.ndim - tails[k]] for k, a in arrays.items()))
+    except ValueError:
+        shape = ()
+    size = int(np.prod(shape))
+    if size <= 2 * BLOCK:
+        return block(**arrays, **const)
+    flat = {}
+    for k, a in arrays.items():
+        lead = a.shape[:a.ndim - tails[k]]
+        if int(np.prod(lead)) == 1:
+            flat[k] = a.reshape(a.shape[a.ndim - tails[k]:])     # one value for every point
+        else:
+            tail = a.shape[a.ndim - tails[k]:]
+            flat[k] = np.broadcast_to(a, shape + tail).reshape((size,) + tail)
+    out = None
+    for i in range(0, size, BLOCK):
+        part = block(**{k: a if a.ndim == tails[k] else a[i:i + BLOCK] for k, a in flat.items()},
+                     **const)
+        if out is None:
+            out = [np.empty(size) for _ in part]
+        for o, p in zip(out, part):
+            o[i:i + BLOCK] = p
+    return RockProperties(*(o.reshape(shape) for o in out))
 
 
 def _fluid(fluid) -> Fluid:
@@ -175,11 +213,17 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
+    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (fluid.K, 0),
+                                     "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
+
+
+def _hs_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
+    """Model 1 on a block of points (:func:`hs_gassmann`)."""
     mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
                                        np.broadcast_to(G, beta.shape), beta)
     dry = krief(mineral.K, mineral.G, phi, A)
-    K_sat = gassmann(dry.K, mineral.K, fluid.K, phi)
-    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, fluid.rho))
+    K_sat = gassmann(dry.K, mineral.K, K_f, phi)
+    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
@@ -253,12 +297,19 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
+    return _by_points(_generalized_gassmann, {"beta": (beta, 1), "phi": (phi, 0),
+                                              "K_f": (fluid.K, 0), "rho_f": (fluid.rho, 0),
+                                              "A": (A, 0)}, K=K, G=G, rho=rho)
+
+
+def _generalized_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
+    """Model 3 on a block of points (:func:`generalized_gassmann_model`)."""
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
-    K_sat = generalized_gassmann(frames.K, K_i, beta, fluid.K, phi)
+    K_sat = generalized_gassmann(frames.K, K_i, beta, K_f, phi)
     G_dry = sum_phases(frames.G)
     return _finish(sum_phases(frames.K), G_dry, K_sat, G_dry,
-                   bulk_density(rho, beta, phi, fluid.rho))
+                   bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS)
