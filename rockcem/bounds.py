@@ -74,13 +74,19 @@ def _harmonic(values, f, shift=0.0):
     """
     shift = np.asarray(shift, dtype=float)
     denom = values + shift[..., None]
-    present = f > 0.0
-    if np.all(denom > 0.0):
+    if denom.size == 0 or denom.min() > 0.0:
         # Common case (no zero modulus meets a zero shift): plain harmonic sum.
         with np.errstate(over="ignore"):
-            total = sum_phases(f / denom)
+            total = sum_phases(np.divide(f, denom, out=denom) if denom.shape == np.shape(f)
+                               else f / denom)
+        if total.size and np.isfinite(total.max()):
+            inv = np.divide(1.0, total, out=total)
+        else:
             inv = np.where(np.isfinite(total), 1.0 / total, 0.0)
-        return np.maximum(inv - shift, 0.0)
+        inv = np.subtract(inv, shift, out=inv) if inv.shape == np.broadcast_shapes(
+            inv.shape, shift.shape) else inv - shift
+        return np.maximum(inv, 0.0, out=inv)
+    present = f > 0.0
     zero = present & (denom <= 0.0)
     safe = np.where(present & ~zero, denom, 1.0)
     # Subnormal denominators overflow f/denom to inf; the limit (a zero modulus) is then exact.
@@ -152,6 +158,8 @@ def _hill(K, G, f):
 
 def _zeta(K, G):
     r""":math:`\zeta(K, G) = \frac{G}{6}\frac{9K + 8G}{K + 2G}` (zero for a fluid, ``G = 0``)."""
+    if np.size(G) and np.min(G) > 0.0:        # then K + 2G > 0 too (K >= 0)
+        return G / 6.0 * (9.0 * K + 8.0 * G) / (K + 2.0 * G)
     denom = K + 2.0 * G
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
 
@@ -206,17 +214,23 @@ def _hs_both(K, G, f):
 
 def _hs_upper(K, G, f):
     """Upper HS bound (K, G) of checked, broadcast phase arrays."""
-    present = f > 0.0
-    K_max = max_phases(np.where(present, K, -np.inf))
-    G_max = max_phases(np.where(present, G, -np.inf))
+    if f.size and f.min() > 0.0:           # every phase present at every point
+        K_max, G_max = max_phases(K), max_phases(G)
+    else:
+        present = f > 0.0
+        K_max = max_phases(np.where(present, K, -np.inf))
+        G_max = max_phases(np.where(present, G, -np.inf))
     return _harmonic(K, f, 4.0 / 3.0 * G_max), _harmonic(G, f, _zeta(K_max, G_max))
 
 
 def _hs_lower(K, G, f):
     """Lower HS bound (K, G) of checked, broadcast phase arrays."""
-    present = f > 0.0
-    K_min = min_phases(np.where(present, K, np.inf))
-    G_min = min_phases(np.where(present, G, np.inf))
+    if f.size and f.min() > 0.0:           # every phase present at every point
+        K_min, G_min = min_phases(K), min_phases(G)
+    else:
+        present = f > 0.0
+        K_min = min_phases(np.where(present, K, np.inf))
+        G_min = min_phases(np.where(present, G, np.inf))
     return _harmonic(K, f, 4.0 / 3.0 * G_min), _harmonic(G, f, _zeta(K_min, G_min))
 
 

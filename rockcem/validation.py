@@ -73,9 +73,17 @@ def as_array(name: str, value) -> np.ndarray:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a real number or an array of real numbers") from None
     # min() propagates NaN: one reduction, no boolean temporary of the input's size.
-    if arr.size and np.isnan(arr.min()):
+    if arr.size and np.isnan(_repeats_dropped(arr).min()):
         raise ValueError(f"{name} contains NaN")
     return arr
+
+
+def _repeats_dropped(a: np.ndarray) -> np.ndarray:
+    """A view of ``a`` without the axes along which ``np.broadcast_to`` repeats it (stride 0):
+    the same set of values, so the same min and max, read once each."""
+    if a.ndim and a.size > 1 and 0 in a.strides:
+        return a[tuple(0 if st == 0 else slice(None) for st in a.strides)]
+    return a
 
 
 def _holds_bool(seq) -> bool:
@@ -107,7 +115,8 @@ def check_range(name: str, arr: np.ndarray, low: float, high: float, *,
     # Two reductions, no temporaries of the input's size; the element-wise masks below only on
     # the way to an error (or when a NaN makes min/max inconclusive: NaN passes, as it always
     # has here; as_array refuses it before).
-    lo_v, hi_v = arr_.min(), arr_.max()
+    distinct = _repeats_dropped(arr_)
+    lo_v, hi_v = distinct.min(), distinct.max()
     if (lo_v > low if low_open else lo_v >= low) and (hi_v < high if high_open else hi_v <= high):
         return arr
     bad_low = arr <= low if low_open else arr < low
@@ -132,7 +141,8 @@ def check_modulus(name: str, arr: np.ndarray, *, allow_zero: bool = False) -> np
     arr_ = np.asarray(arr)
     if arr_.size == 0:
         return arr
-    if arr_.min() >= (0.0 if allow_zero else MIN_MODULUS) and arr_.max() <= MAX_MODULUS:
+    distinct = _repeats_dropped(arr_)
+    if distinct.min() >= (0.0 if allow_zero else MIN_MODULUS) and distinct.max() <= MAX_MODULUS:
         return arr                       # no NaN either (NaN fails both comparisons)
     low = (arr_ < 0.0) if allow_zero else (arr_ < MIN_MODULUS)
     bad = low | ~(arr_ <= MAX_MODULUS)
