@@ -25,6 +25,7 @@ from __future__ import annotations
 import _common  # noqa: I001  (first: pins threads before numpy is imported)
 
 import argparse  # noqa: E402
+import os  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 
@@ -89,6 +90,7 @@ def main(argv=None):
     import pandas as pd
 
     _common.announce_source()
+    load_before = os.getloadavg()[0]
     rows = []
     all_cases = cases(args.n)
     for name, arrays, ours, peer in all_cases:         # values first, and the warm-up calls
@@ -121,7 +123,9 @@ def main(argv=None):
         rockphypy_version=importlib.metadata.version("rockphypy"),
         timing="interleaved rounds, order swapped each round, best of rounds per library",
         ratio="rockphypy best time / rockcem best time (> 1: rockcem faster)",
-        target_ratio=TARGET_RATIO, value_rtol=VALUE_RTOL)
+        target_ratio=TARGET_RATIO, value_rtol=VALUE_RTOL,
+        load_average_1min=f"{load_before:.2f} before, {os.getloadavg()[0]:.2f} after "
+                          f"(on {os.cpu_count()} cores, shared with other work)")
     _common.write_csv(frame, _common.result_path("granular_vs_rockphypy", "csv", args.tag), attrs)
     table = _common.markdown(frame.assign(
         rockcem_ms=frame["rockcem_best_s"] * 1e3, rockphypy_ms=frame["rockphypy_best_s"] * 1e3),
@@ -130,8 +134,12 @@ def main(argv=None):
          "speed_ratio": ("ratio (rockphypy / rockcem time)", ".2f"),
          "max_rel_diff": ("max rel. difference of values", ".1e")})
     md = _common.result_path("granular_vs_rockphypy", "md", args.tag)
-    text = (f"{attrs['date_utc']}, commit {attrs['git_commit'][:10]} (uncommitted: "
-            f"{attrs['git_uncommitted_rockcem_files']}), {attrs['processor']}, "
+    commit = attrs["git_commit"]
+    source = (f"commit {commit[:10]} (uncommitted: {attrs['git_uncommitted_rockcem_files']})"
+              if commit != "not a git checkout" else f"rockcem from {attrs['rockcem_path']}")
+    text = (f"{attrs['date_utc']}, {source}, rockcem sources sha256 "
+            f"{attrs['rockcem_source_sha256'][:12]}, {attrs['processor']}, "
+            f"load average {attrs['load_average_1min']}, "
             f"rockphypy {attrs['rockphypy_version']}, numpy {attrs['numpy_version']}; "
             f"{args.n} points, best of {args.rounds} interleaved rounds, one core\n\n{table}\n")
     _common._atomic(md, lambda tmp: open(tmp, "w").write(text))
