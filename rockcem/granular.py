@@ -672,6 +672,33 @@ def _bounding(K0, G0, Kc, Gc, phi, phic, n, phib, scheme, thickness, *, stiff):
     _not_above("phib", phib, "phic", phic)
     _not_above("phi", phi, "phib", phib)
     b = _contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, eps)
+    K_r, G_r = (K0, G0) if stiff else (b.K, b.G)
+    s, z = 4.0 / 3.0 * G_r, _zeta(K_r, G_r)
+    ends = (b.K + s, K0 + s, b.G + z, G0 + z)
+    if all(np.size(v) == 1 for v in (*ends, s, z)) and min(np.min(v) for v in ends) > 1e-300:
+        # End members and reference one number each (phib one number): the reciprocals of the
+        # four denominators once, the points in blocks (the operations of _harmonic2).
+        rK_b, rK_0, rG_b, rG_0 = (1.0 / np.reshape(v, ()) for v in ends)
+        s, z = np.reshape(s, ()), np.reshape(z, ())
+
+        def mix(x, x1, r_b, r_0, shift):
+            total = x * r_b
+            total += x1 * r_0
+            np.divide(1.0, total, out=total)
+            total -= shift
+            return np.maximum(total, 0.0) if total.min() < 0.0 else total
+
+        def kernel(phi, phib):
+            x = phi / phib
+            x1 = 1.0 - x
+            if not isinstance(x, np.ndarray) or x.ndim == 0:
+                return (_harmonic2(np.reshape(b.K, ()), np.reshape(K0, ()), x, s, x1),
+                        _harmonic2(np.reshape(b.G, ()), np.reshape(G0, ()), x, z, x1))
+            return mix(x, x1, rK_b, rK_0, s), mix(x, x1, rG_b, rG_0, z)
+
+        shape = np.broadcast_shapes(*(np.shape(v) for v in (K0, G0, Kc, Gc, phi, phic, n,
+                                                             phib, eps)))
+        return Moduli(*(v.reshape(shape) for v in blockwise(kernel, phi, phib)))
 
     def kernel(K_b, G_b, K0, G0, phi, phib):
         ref = (K0, G0) if stiff else (K_b, G_b)

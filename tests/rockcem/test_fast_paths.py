@@ -253,3 +253,15 @@ def test_blockwise_shapes_and_broadcast_inputs():
     assert out[1].shape == a.shape and np.all(out[1] == 2.0)
     small = blockwise(kernel, np.ones(3), 2.0)
     assert small[1].shape == (3,) and small[1].flags.writeable
+
+
+@pytest.mark.parametrize("fn", [granular.constant_cement, granular.increasing_cement])
+def test_bounding_models_keep_the_shape_of_one_element_inputs(fn):
+    """The path for one phib (end members one number each) returns the inputs' broadcast shape,
+    size-1 axes of the other arguments included, and the values of the general path."""
+    phi = np.linspace(0.0, 0.3, 5)
+    m = fn([[36.6]], 45.0, 36.6, 45.0, phi, 0.4, 8.6, 0.37)
+    assert m.K.shape == m.G.shape == (1, 5)
+    general = fn(36.6, 45.0, 36.6, 45.0, phi, 0.4, 8.6, np.full(5, 0.37))
+    close(m.K[0], general.K)
+    close(m.G[0], general.G)
