@@ -319,16 +319,25 @@ def _plot(frame, n, tag=""):
     import matplotlib.pyplot as plt
 
     f = frame[np.isfinite(frame["best_s"])]
-    fig, ax = plt.subplots(figsize=(7.5, 3.8))
-    colors = ["C0" if k == "model" else "C1" for k in f["kind"]]
-    labels = [f"{c}\n(n={p:g})" for c, p in zip(f["case"], f["n_points"])]
+    fig, ax = plt.subplots(figsize=(7.5, 1.2 + 0.38 * len(f)))
+    palette = {"model": "C0", "model_interleaved": "C2", "model_baseline": "0.6"}
+    colors = [palette.get(k, "C1") for k in f["kind"]]
+    labels = [f"{c} (n={p:g})" for c, p in zip(f["case"], f["n_points"])]
     ax.barh(labels, f["points_per_s"], color=colors)
+    from matplotlib.patches import Patch
+
+    names = {"model": "model", "model_interleaved": "model, interleaved with --baseline",
+             "model_baseline": "model of the --baseline copy"}
+    handles = [Patch(color=c, label=names[k]) for k, c in palette.items() if k in set(f["kind"])]
+    handles.append(Patch(color="C1", label="SC solver"))
+    ax.tick_params(axis="y", labelsize=8)
     ax.axvline(1e6 / TARGET_MODEL_S, color="k", ls="--", lw=1, label="target: 1e6 points/s")
     ax.set_xscale("log")
     ax.set_xlabel("points per second (best run, one core)")
     ax.set_title(f"rockcem speed, sandstone profile (models at n={n:g})")
     ax.invert_yaxis()
-    ax.legend(loc="lower right", fontsize=8)
+    line = ax.get_legend_handles_labels()[0]
+    ax.legend(handles=line + handles, loc="lower left", fontsize=8, framealpha=0.9)
     _common.save_figure(fig, _common.result_path("bench_models", "png", tag))
 
 
