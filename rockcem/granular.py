@@ -777,16 +777,24 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    from .bounds import _hill, _hs_upper
-    from .inclusions import self_consistent
-
     K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, eps, f, delta = _shapes(
         K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, pressure=pressure,
         cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
         thickness=thickness, f=f, delta=delta)
     _not_above("phi", phi, "phic", phic_arr)
     _not_above("cement_fraction", phip, "phic", phic_arr)
-    # The building blocks below take the arguments checked here (their own checks skipped).
+    return _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, scheme, eps,
+                          f, delta)
+
+
+def _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, scheme, eps, f,
+                   delta) -> Moduli:
+    """:func:`patchy_cement` of arguments checked by :func:`_shapes` (phi and phip <= phic)."""
+    from .bounds import _hill, _hs_upper
+    from .inclusions import self_consistent
+
+    # The building blocks below take the arguments checked by the caller (their own checks
+    # skipped).
     bonded = np.minimum(phip, limit)
     cct = _contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, eps)
     nu = _poisson("0", K0, G0)

@@ -30,7 +30,7 @@ from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
-from .granular import _shapes, cement_radius, patchy_cement
+from .granular import _cement_radius, _patchy_cement, _shapes
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
 from .validation import FIELD_UNITS, labelled
@@ -386,15 +386,18 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
             raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
                              f"{name} in [0, critical_porosity])")
     # The contact cement's radius, checked here to name the scene's keys; patchy_cement's
-    # contact_cement computes it again (a few vector operations).
-    alpha = cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
+    # contact_cement computes it again (a few vector operations). Its arguments are checked
+    # above (phic - min(phip, limit) lies in [0, phic]), so are patchy_cement's but the minerals'
+    # moduli, checked next: the building blocks' checks are skipped.
+    alpha = _cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
     if np.any(alpha > 1.0):
         raise ValueError(f"the cement at the grain contacts (cement_fraction up to "
                          f"contact_cement_limit) is more than the contact model holds at this "
                          f"coordination_number and critical_porosity: its radius a/R reaches "
                          f"{float(np.max(alpha)):.3g} > 1")
-    dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, phic, n, pressure, phip,
-                        limit, scheme, eps, f, delta)
+    K0, G0, Kc, Gc = _shapes(K0=grain.K, G0=grain.G, Kc=cement.K, Gc=cement.G)
+    dry = _patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, phip, limit, scheme, eps, f,
+                         delta)
     beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
     beta = stack_phases(1.0 - beta_c, beta_c)
     K = np.array([grain.K, cement.K])
