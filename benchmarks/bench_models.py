@@ -16,7 +16,13 @@ ratio and the largest relative difference of K and G. Target: vectorised at leas
 ``--throughput-n`` run (default 10^5) and Model 2 over 10^6 points the kernel; the kernel is
 also timed and checked against scipy on the 2000 baseline points (``sc_solver_numba_kernel``).
 
-Run: ``python benchmarks/bench_models.py [--n N] [--repeat K] [--baseline-n M]``.
+With ``--baseline PATH`` (another copy of the package, e.g. ``git archive <commit> rockcem
+datasets | tar -x -C PATH``) Part 1 also times that copy's four models on the same inputs,
+interleaved with this checkout's run by run (order swapped every run, best of ``--repeat``
+each), checks that both give the same values, and reports the speed ratio: the comparison for
+a machine whose load changes (issue 32).
+
+Run: ``python benchmarks/bench_models.py [--n N] [--repeat K] [--baseline-n M] [--baseline PATH]``.
 Output: ``benchmarks/results/bench_models.{csv,nc,png}``.
 """
 
@@ -47,6 +53,9 @@ def main(argv=None):
     parser.add_argument("--tag", default="",
                         help="suffix of the result file names, e.g. a commit (default none)")
     parser.add_argument("--no-plot", action="store_true")
+    parser.add_argument("--baseline", default="",
+                        help="a copy of rockcem (with datasets/) to time Part 1 against, "
+                             "interleaved (default none)")
     args = parser.parse_args(argv)
 
     import pandas as pd
@@ -73,6 +82,9 @@ def main(argv=None):
         print(f"{case:32s} n={n:>8d}  best {best:9.4f} s  {n / best:12.4g} points/s"
               f"  ({len(times)} run(s)) {status}" + (f"  WARNINGS: {warns}" if warns else ""),
               flush=True)
+
+    if args.baseline:
+        _baseline_part(args, state, rows, record)
 
     # ---- Part 1: the four models over n points
     simple = {
@@ -236,21 +248,96 @@ def main(argv=None):
     print(f"wrote {stem}{{csv,nc" + ("" if args.no_plot else ",png") + "}")
 
 
+def _load_package(path):
+    """Import the rockcem at ``path`` beside the one already imported; returns its models and
+    materials modules (the current package's modules are put back)."""
+    import importlib
+    import sys
+
+    mine = {k: v for k, v in sys.modules.items() if k == "rockcem" or k.startswith("rockcem.")}
+    for k in mine:
+        del sys.modules[k]
+    sys.path.insert(0, path)
+    try:
+        other = importlib.import_module("rockcem.models"), importlib.import_module(
+            "rockcem.materials")
+    finally:
+        sys.path.remove(path)
+        for k in [k for k in sys.modules if k == "rockcem" or k.startswith("rockcem.")]:
+            del sys.modules[k]
+        sys.modules.update(mine)
+    if not other[0].__file__.startswith(str(path)):
+        raise SystemExit(f"--baseline {path}: imported {other[0].__file__} instead")
+    return other
+
+
+def _baseline_part(args, state, rows, record):
+    """Part 1 against another copy of the package, interleaved run by run."""
+    import warnings
+
+    from rockcem import materials, models
+
+    base_models, base_materials = _load_package(args.baseline)
+    phi, beta = state["porosity"], state["solid_fractions"]
+    phip, pe = state["cement_fraction"], state["effective_pressure"]
+
+    def calls(M, mat):
+        q, c, w = mat.mineral("quartz"), mat.mineral("quartz_cement"), mat.fluid("water")
+        return {"hs_gassmann": lambda: M.hs_gassmann([q, c], beta, phi, w),
+                "self_consistent": lambda: M.self_consistent_model([q, c], beta, phi, w,
+                                                                   aspect_ratio=0.108),
+                "generalized_gassmann": lambda: M.generalized_gassmann_model([q, c], beta, phi,
+                                                                             w),
+                "patchy_cement": lambda: M.patchy_cement_model(q, c, phi, phip, pe, w)}
+
+    mine, base = calls(models, materials), calls(base_models, base_materials)
+    for name in mine:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            a, b = mine[name](), base[name]()        # also the warm-up (numba's first call)
+        diff = max(float(np.max(_common.relative_difference(x, y))) for x, y in zip(a, b))
+        times = {"this": [], "baseline": []}
+        for r in range(args.repeat):
+            order = [("this", mine[name]), ("baseline", base[name])]
+            for who, fn in order if r % 2 == 0 else order[::-1]:
+                t0 = time.perf_counter()
+                fn()
+                times[who].append(time.perf_counter() - t0)
+        best, best_base = min(times["this"]), min(times["baseline"])
+        note = (f"interleaved with --baseline {args.baseline}: {best_base:.4f} s there, "
+                f"{best_base / best:.2f}x; max rel. difference of the outputs {diff:.2g}")
+        record(f"{name}_baseline", "model_baseline", args.n, best_base, times["baseline"], [],
+               note=f"the --baseline copy, interleaved with {name}_interleaved")
+        record(f"{name}_interleaved", "model_interleaved", args.n, best, times["this"], [],
+               note=note)
+        print(f"{name:22s} this {best:.4f} s, baseline {best_base:.4f} s: {best_base / best:.2f}x"
+              f" (outputs within {diff:.2g})", flush=True)
+
+
 def _plot(frame, n, tag=""):
     _common.use_agg()
     import matplotlib.pyplot as plt
 
     f = frame[np.isfinite(frame["best_s"])]
-    fig, ax = plt.subplots(figsize=(7.5, 3.8))
-    colors = ["C0" if k == "model" else "C1" for k in f["kind"]]
-    labels = [f"{c}\n(n={p:g})" for c, p in zip(f["case"], f["n_points"])]
+    fig, ax = plt.subplots(figsize=(7.5, 1.2 + 0.38 * len(f)))
+    palette = {"model": "C0", "model_interleaved": "C2", "model_baseline": "0.6"}
+    colors = [palette.get(k, "C1") for k in f["kind"]]
+    labels = [f"{c} (n={p:g})" for c, p in zip(f["case"], f["n_points"])]
     ax.barh(labels, f["points_per_s"], color=colors)
+    from matplotlib.patches import Patch
+
+    names = {"model": "model", "model_interleaved": "model, interleaved with --baseline",
+             "model_baseline": "model of the --baseline copy"}
+    handles = [Patch(color=c, label=names[k]) for k, c in palette.items() if k in set(f["kind"])]
+    handles.append(Patch(color="C1", label="SC solver"))
+    ax.tick_params(axis="y", labelsize=8)
     ax.axvline(1e6 / TARGET_MODEL_S, color="k", ls="--", lw=1, label="target: 1e6 points/s")
     ax.set_xscale("log")
     ax.set_xlabel("points per second (best run, one core)")
     ax.set_title(f"rockcem speed, sandstone profile (models at n={n:g})")
     ax.invert_yaxis()
-    ax.legend(loc="lower right", fontsize=8)
+    line = ax.get_legend_handles_labels()[0]
+    ax.legend(handles=line + handles, loc="lower left", fontsize=8, framealpha=0.9)
     _common.save_figure(fig, _common.result_path("bench_models", "png", tag))
 
 

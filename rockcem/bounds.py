@@ -11,8 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (as_array, broadcast_phases, check_fractions, check_modulus,
-                          max_phases, min_phases, sum_phases)
+from .validation import (as_array, blockwise, broadcast_phases, check_fractions, check_modulus,
+                          max_phases, min_phases, stack_phases, sum_phases)
 from .elastic import Moduli
 from .validation import labelled
 
@@ -52,6 +52,20 @@ def _phases(K, G, fractions):
     return K, G, f
 
 
+def _by_blocks(fn, K, G, f):
+    """``fn(K, G, f)`` of checked phase arrays (phases on the last axis) in blocks of points
+    (:func:`rockcem.validation.blockwise`): each block's phase arrays stay in cache. ``fn``
+    works point by point and returns arrays of the points' shape."""
+    m = f.shape[-1]
+    columns = [a[..., i] for a in (K, G, f) for i in range(m)]
+
+    def kernel(*c):
+        return fn(*np.broadcast_arrays(stack_phases(*c[:m]), stack_phases(*c[m:2 * m]),
+                                       stack_phases(*c[2 * m:])))
+
+    return blockwise(kernel, *columns)
+
+
 def _harmonic(values, f, shift=0.0):
     r"""Return :math:`[\sum_i f_i / (v_i + s)]^{-1} - s` along the last axis.
 
@@ -60,13 +74,19 @@ def _harmonic(values, f, shift=0.0):
     """
     shift = np.asarray(shift, dtype=float)
     denom = values + shift[..., None]
-    present = f > 0.0
-    if np.all(denom > 0.0):
+    if denom.size == 0 or denom.min() > 0.0:
         # Common case (no zero modulus meets a zero shift): plain harmonic sum.
         with np.errstate(over="ignore"):
-            total = sum_phases(f / denom)
+            total = sum_phases(np.divide(f, denom, out=denom) if denom.shape == np.shape(f)
+                               else f / denom)
+        if total.size and np.isfinite(total.max()):
+            inv = np.divide(1.0, total, out=total)
+        else:
             inv = np.where(np.isfinite(total), 1.0 / total, 0.0)
-        return np.maximum(inv - shift, 0.0)
+        inv = np.subtract(inv, shift, out=inv) if inv.shape == np.broadcast_shapes(
+            inv.shape, shift.shape) else inv - shift
+        return np.maximum(inv, 0.0, out=inv)
+    present = f > 0.0
     zero = present & (denom <= 0.0)
     safe = np.where(present & ~zero, denom, 1.0)
     # Subnormal denominators overflow f/denom to inf; the limit (a zero modulus) is then exact.
@@ -126,13 +146,20 @@ def hill(K, G, fractions) -> Moduli:
 
     Same parameters as :func:`voigt`.
     """
-    v = voigt(K, G, fractions)
-    r = reuss(K, G, fractions)
-    return Moduli(0.5 * (v.K + r.K), 0.5 * (v.G + r.G))
+    return Moduli(*_by_blocks(_hill, *_phases(K, G, fractions)))
+
+
+def _hill(K, G, f):
+    """Hill average (K, G) of checked, broadcast phase arrays (:func:`hill`)."""
+    zero = np.zeros(K.shape[:-1])
+    return (0.5 * (sum_phases(f * K) + _harmonic(K, f, zero)),
+            0.5 * (sum_phases(f * G) + _harmonic(G, f, zero)))
 
 
 def _zeta(K, G):
     r""":math:`\zeta(K, G) = \frac{G}{6}\frac{9K + 8G}{K + 2G}` (zero for a fluid, ``G = 0``)."""
+    if np.size(G) and np.min(G) > 0.0:        # then K + 2G > 0 too (K >= 0)
+        return G / 6.0 * (9.0 * K + 8.0 * G) / (K + 2.0 * G)
     denom = K + 2.0 * G
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
 
@@ -177,30 +204,40 @@ def hashin_shtrikman(K, G, fractions) -> Bounds:
     >>> round(float(b.K_lower), 4), round(float(b.K_upper), 4)
     (38.4314, 38.4407)
     """
-    K, G, f = _phases(K, G, fractions)
-    return Bounds(*_hs_lower(K, G, f), *_hs_upper(K, G, f))
+    return Bounds(*_by_blocks(_hs_both, *_phases(K, G, fractions)))
+
+
+def _hs_both(K, G, f):
+    """Lower and upper HS bounds (K-, G-, K+, G+) of checked, broadcast phase arrays."""
+    return (*_hs_lower(K, G, f), *_hs_upper(K, G, f))
 
 
 def _hs_upper(K, G, f):
     """Upper HS bound (K, G) of checked, broadcast phase arrays."""
-    present = f > 0.0
-    K_max = max_phases(np.where(present, K, -np.inf))
-    G_max = max_phases(np.where(present, G, -np.inf))
+    if f.size and f.min() > 0.0:           # every phase present at every point
+        K_max, G_max = max_phases(K), max_phases(G)
+    else:
+        present = f > 0.0
+        K_max = max_phases(np.where(present, K, -np.inf))
+        G_max = max_phases(np.where(present, G, -np.inf))
     return _harmonic(K, f, 4.0 / 3.0 * G_max), _harmonic(G, f, _zeta(K_max, G_max))
 
 
 def _hs_lower(K, G, f):
     """Lower HS bound (K, G) of checked, broadcast phase arrays."""
-    present = f > 0.0
-    K_min = min_phases(np.where(present, K, np.inf))
-    G_min = min_phases(np.where(present, G, np.inf))
+    if f.size and f.min() > 0.0:           # every phase present at every point
+        K_min, G_min = min_phases(K), min_phases(G)
+    else:
+        present = f > 0.0
+        K_min = min_phases(np.where(present, K, np.inf))
+        G_min = min_phases(np.where(present, G, np.inf))
     return _harmonic(K, f, 4.0 / 3.0 * G_min), _harmonic(G, f, _zeta(K_min, G_min))
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
     """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
-    return Moduli(*_hs_upper(*_phases(K, G, fractions)))
+    return Moduli(*_by_blocks(_hs_upper, *_phases(K, G, fractions)))
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))

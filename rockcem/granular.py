@@ -18,6 +18,7 @@ from .constants import GPA_PER_MPA
 from .elastic import Moduli
 from .validation import (
     as_array,
+    blockwise,
     broadcast,
     check_modulus,
     check_range,
@@ -60,7 +61,11 @@ def _poisson(name, K, G):
 
 def _not_above(name, value, limit_name, limit):
     """Refuse ``value > limit`` (checked arrays; a relative 1e-12 of rounding allowed)."""
-    if np.any(value > limit * (1 + 1e-12)):
+    if np.size(limit) == 1:         # one reduction, no temporary of the value's size
+        bad = np.size(value) > 0 and np.max(value) > float(np.max(limit)) * (1 + 1e-12)
+    else:
+        bad = np.any(value > limit * (1 + 1e-12))
+    if bad:
         raise ValueError(f"{name} must lie in [0, {limit_name}] for this model")
 
 
@@ -103,8 +108,48 @@ def _shapes(_labels=None, **arrays):
 
 
 def _zeta(K, G):
+    r""":math:`\zeta(K, G) = \frac{G}{6}\frac{9K + 8G}{K + 2G}`, zero where ``G = 0``
+    ([Mavko2009]_ Sect. 7.9)."""
+    if _lowest(G) > 0.0:            # then K + 2G > 0 too (K >= 0): no guard needed
+        return G / 6.0 * (9.0 * K + 8.0 * G) / (K + 2.0 * G)
     denom = K + 2.0 * G
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
+
+
+def _harmonic2(a, b, x, shift, x1=None):
+    r""":math:`[x/(a+s) + (1-x)/(b+s)]^{-1} - s`, clipped at 0: :func:`rockcem.bounds._harmonic`
+    of two phases with fractions ``x`` and ``1 - x``, without stacking them. Where every
+    denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a denominator that is one
+    number is inverted once (a product per point instead of a division, within an ulp); other
+    inputs go to that function. ``x1``: ``1 - x`` if the caller has it."""
+    da = a + shift
+    db = b + shift
+    if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
+        total = x * (1.0 / da) if np.ndim(da) == 0 else x / da
+        rest = 1.0 - x if x1 is None else x1
+        rest = rest * (1.0 / db) if np.ndim(db) == 0 else rest / db
+        total = _inplace(np.add, total, rest)
+        total = _inplace(np.divide, 1.0, total, out_arg=1)
+        total = _inplace(np.subtract, total, shift)
+        # Clip the cancellation in inv - shift (as that function); rarely anything to clip.
+        return np.maximum(total, 0.0) if _lowest(total) < 0.0 else total
+    a, b, x, shift = np.broadcast_arrays(a, b, x, shift)
+    return _harmonic(np.stack([a, b], axis=-1), np.stack([x, 1.0 - x], axis=-1), shift)
+
+
+def _inplace(ufunc, a, b, out_arg=0):
+    """``ufunc(a, b)``, written over the temporary ``(a, b)[out_arg]`` where it has the result's
+    shape (a temporary of the caller, never an input)."""
+    tmp, other = (a, b) if out_arg == 0 else (b, a)
+    if isinstance(tmp, np.ndarray) and tmp.ndim and (np.ndim(other) == 0
+                                                     or np.shape(other) == tmp.shape):
+        return ufunc(a, b, out=tmp)
+    return ufunc(a, b)
+
+
+def _lowest(a):
+    """The least element of a checked array or number (``min`` without numpy's dispatch)."""
+    return a.min() if isinstance(a, np.ndarray) else a
 
 
 def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
@@ -119,13 +164,25 @@ def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
 
     with ``x = frac_a``; the reference (r) is the softer end member for the "soft" (lower-bound)
     form and the stiffer one for the "stiff" (upper-bound) form ([Mavko2009]_ Sect. 7.9).
+    Checked arrays; the results broadcast to the inputs' shape.
     """
-    K_a, G_a, K_b, G_b, x, K_ref, G_ref = broadcast(K_a=K_a, G_a=G_a, K_b=K_b, G_b=G_b,
-                                                     frac_a=frac_a, K_ref=K_ref, G_ref=G_ref)
-    fr = np.stack([x, 1.0 - x], axis=-1)
-    K = _harmonic(np.stack([K_a, K_b], axis=-1), fr, 4.0 / 3.0 * G_ref)
-    G = _harmonic(np.stack([G_a, G_b], axis=-1), fr, _zeta(K_ref, G_ref))
+    frac_b = 1.0 - frac_a
+    K = _harmonic2(K_a, K_b, frac_a, 4.0 / 3.0 * G_ref, frac_b)
+    G = _harmonic2(G_a, G_b, frac_a, _zeta(K_ref, G_ref), frac_b)
     return Moduli(K, G)
+
+
+def _hm(K0, G0, phic, n, pressure, f, delta, nu):
+    r"""Hertz–Mindlin ``(K, G)`` of checked arrays (``nu``: the grain's Poisson ratio), eqs.
+    D.1–D.2 of [Carcione2022]_: :math:`K^3 = c\,p` with
+    :math:`c = n^2(1-\phi_c)^2\mu_0^2 / (18\pi^2(1-\nu_0)^2)`, :math:`p` in GPa, and
+    :math:`\mu = g K`, :math:`g = 3\,\frac{2 + 3f - \nu_0(1+3f)}{5(2-\nu_0)}` (the cube root of
+    :math:`18 \cdot 3/2 = 27`)."""
+    c = (n * (1.0 - phic) * G0) ** 2 * GPA_PER_MPA / (18.0 * np.pi**2 * (1.0 - nu) ** 2)
+    g = 3.0 * (2.0 + 3.0 * f - nu * (1.0 + 3.0 * f)) / (5.0 * (2.0 - nu))
+    K = (pressure + delta) * c
+    K = np.cbrt(K, out=K) if isinstance(K, np.ndarray) else np.cbrt(K)
+    return K, K * g
 
 
 # ----------------------------------------------------------------------------- Hertz–Mindlin
@@ -178,12 +235,7 @@ def hertz_mindlin(K0, G0, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     K0, G0, phic, n, pressure, f, delta = _shapes(K0=K0, G0=G0, phic=phic, n=n,
                                                   pressure=pressure, f=f, delta=delta)
     nu = _poisson("0", K0, G0)
-    p = (pressure + delta) * GPA_PER_MPA
-    common = (n * (1.0 - phic) * G0) ** 2 * p / (np.pi**2 * (1.0 - nu) ** 2)
-    K = np.cbrt(common / 18.0)
-    G = (2.0 + 3.0 * f - nu * (1.0 + 3.0 * f)) / (5.0 * (2.0 - nu)) * np.cbrt(1.5 * common)
-    K, G = broadcast(K=K, G=G)
-    return Moduli(K, G)
+    return Moduli(*blockwise(_hm, K0, G0, phic, n, pressure, f, delta, nu))
 
 
 @labelled(units="GPa")
@@ -216,11 +268,7 @@ def soft_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    K0, G0, phi, phic = _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f,
-                                delta=delta)[:4]
-    _not_above("phi", phi, "phic", phic)
-    hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
-    return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, hm.K, hm.G)
+    return _sand(K0, G0, phi, phic, n, pressure, f, delta, stiff=False)
 
 
 @labelled(units="GPa")
@@ -238,11 +286,23 @@ def stiff_sand(K0, G0, phi, phic, n, pressure, f=1.0, delta=0.0) -> Moduli:
 
     Parameters and returns as in :func:`soft_sand`; valid for :math:`0 \le \phi \le \phi_c`.
     """
-    K0, G0, phi, phic = _shapes(K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f,
-                                delta=delta)[:4]
+    return _sand(K0, G0, phi, phic, n, pressure, f, delta, stiff=True)
+
+
+def _sand(K0, G0, phi, phic, n, pressure, f, delta, *, stiff):
+    """Soft (``stiff=False``) or stiff sand: the inputs checked once, then Hertz–Mindlin and the
+    interpolation in blocks (:func:`rockcem.validation.blockwise`)."""
+    K0, G0, phi, phic, n, pressure, f, delta = _shapes(
+        K0=K0, G0=G0, phi=phi, phic=phic, n=n, pressure=pressure, f=f, delta=delta)
     _not_above("phi", phi, "phic", phic)
-    hm = hertz_mindlin(K0, G0, phic, n, pressure, f, delta)
-    return _hs_interpolate(hm.K, hm.G, K0, G0, phi / phic, K0, G0)
+    nu = _poisson("0", K0, G0)
+
+    def kernel(K0, G0, phi, phic, n, pressure, f, delta, nu):
+        K_hm, G_hm = _hm(K0, G0, phic, n, pressure, f, delta, nu)
+        ref = (K0, G0) if stiff else (K_hm, G_hm)
+        return _hs_interpolate(K_hm, G_hm, K0, G0, phi / phic, *ref)
+
+    return Moduli(*blockwise(kernel, K0, G0, phi, phic, n, pressure, f, delta, nu))
 
 
 # ----------------------------------------------------------------------------- contact cement
@@ -294,20 +354,45 @@ def cement_radius(phi, phic, n, scheme=1, thickness=0.0):
     """
     phi, phic, n, eps = _shapes(phi=phi, phic=phic, n=n, thickness=thickness)
     _not_above("phi", phi, "phic", phic)
+    _check_scheme(scheme)
+    return _cement_radius(phi, phic, n, scheme, eps)
+
+
+def _check_scheme(scheme):
     if scheme not in (1, 2):
         raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
-    x = (phic - phi) / (1.0 - phic)
+
+
+def _cement_radius(phi, phic, n, scheme, eps):
+    """:func:`cement_radius` of checked arrays (``phi <= phic``, ``scheme`` 1 or 2), in the
+    inputs' broadcast shape; in blocks for large inputs."""
     if scheme == 2:
-        alpha = np.sqrt(2.0 * x / 3.0)
-        alpha, _, _ = broadcast(alpha=alpha, n=n, thickness=eps)
-        return alpha
+        return blockwise(lambda phi, phic, n, eps: (np.sqrt(2.0 * ((phic - phi) / (1.0 - phic))
+                                                            / 3.0),), phi, phic, n, eps)[0]
+    den = 3.0 * n * (1.0 - phic)
+    if np.size(eps) == 1 and float(np.max(eps)) == 0.0 and np.min(den) > 1e-290:
+        # eps = 0 (CCT), eq. 16: alpha = 2 [(phic - phi) / (3 n (1 - phic))]^(1/4), as the
+        # fourth root of 16 (phic - phi) / (3 n (1 - phic)) (finite: the denominator is not
+        # tiny; otherwise the overflow-free form below).
+        return blockwise(_radius_cct, phi, phic, 16.0 / den, eps)[0]
+    return blockwise(_radius_mcct, phi, phic, n, eps)[0]
+
+
+def _radius_cct(phi, phic, coef, eps):
+    a = (phic - phi) * coef
+    if isinstance(a, np.ndarray):
+        return (np.sqrt(np.sqrt(a, out=a), out=a),)
+    return (np.sqrt(np.sqrt(a)),)
+
+
+def _radius_mcct(phi, phic, n, eps):
     # alpha^2 = 2y / (eps + sqrt(eps^2 + y)) = 2s / (r + sqrt(r^2 + 1)), s = sqrt(y), r = eps/s:
     # no overflow for a tiny n (huge y) or a huge eps.
-    s = np.sqrt(4.0 * x / 3.0) / np.sqrt(n)
+    s = np.sqrt(4.0 * ((phic - phi) / (1.0 - phic)) / 3.0) / np.sqrt(n)
     pos = s > 0.0
     with np.errstate(over="ignore"):        # eps / s beyond 1e308: alpha^2 -> 2s / inf = 0
         r = np.where(pos, eps / np.where(pos, s, 1.0), 0.0)
-        return np.sqrt(np.where(pos, 2.0 * s / (r + np.hypot(r, 1.0)), 0.0))
+        return (np.sqrt(np.where(pos, 2.0 * s / (r + np.hypot(r, 1.0)), 0.0)),)
 
 
 @labelled(units="1")
@@ -335,8 +420,7 @@ def cement_porosity(alpha, phic, n, scheme=1, thickness=0.0):
         the pore space holds (raises ``ValueError``).
     """
     alpha, phic, n, eps = _shapes(alpha=alpha, phic=phic, n=n, thickness=thickness)
-    if scheme not in (1, 2):
-        raise ValueError(f"scheme must be 1 (contact cement) or 2 (coating cement); got {scheme!r}")
+    _check_scheme(scheme)
     x = 1.5 * alpha**2 if scheme == 2 else 0.75 * n * alpha**2 * (0.25 * alpha**2 + eps)
     phi = phic - x * (1.0 - phic)
     if np.any(phi < 0.0):
@@ -361,6 +445,15 @@ def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
     -1.9846, -0.8908 and a negative :math:`C_\tau`; those are transcription variants of the
     same fit.
     """
+    An, Bn, Cn, At, Bt, Ct = _cct_coefficients(Lambda_n, Lambda_t, nu0)
+    Sn = An * alpha**2 + Bn * alpha + Cn
+    St = At * alpha**2 + Bt * alpha + Ct
+    return Sn, St
+
+
+def _cct_coefficients(Lambda_n, Lambda_t, nu0):
+    """The coefficients :math:`A_n, B_n, C_n, A_\\tau, B_\\tau, C_\\tau` of
+    :func:`_cct_stiffness`."""
     An = -0.024153 * Lambda_n**-1.3646
     Bn = 0.20405 * Lambda_n**-0.89008
     Cn = 0.00024649 * Lambda_n**-1.9864
@@ -369,9 +462,7 @@ def _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0):
     Bt = (0.0573 * nu2 + 0.0937 * nu0 + 0.202) * Lambda_t ** (0.0274 * nu2 + 0.0529 * nu0 - 0.8765)
     Ct = 1e-4 * (9.654 * nu2 + 4.945 * nu0 + 3.1) \
         * Lambda_t ** (0.01867 * nu2 + 0.4011 * nu0 - 1.8186)
-    Sn = An * alpha**2 + Bn * alpha + Cn
-    St = At * alpha**2 + Bt * alpha + Ct
-    return Sn, St
+    return An, Bn, Cn, At, Bt, Ct
 
 
 @labelled(units="GPa")
@@ -461,32 +552,50 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
     >>> round(float(m.K), 3), round(float(m.G), 3)
     (8.05, 11.058)
     """
-    K0, G0, Kc, Gc = _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n,
-                             thickness=thickness)[:4]
+    K0, G0, Kc, Gc, phi, phic, n, eps = _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic,
+                                                n=n, thickness=thickness)
+    return _contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme, eps, stiffness, panels)
+
+
+def _contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme, eps, stiffness="fit",
+                    panels=64) -> Moduli:
+    """:func:`contact_cement` of arguments :func:`_shapes` has checked (the joint checks here)."""
     nu0, nuc = _poisson("0", K0, G0), _poisson("c", Kc, Gc)
-    alpha = cement_radius(phi, phic, n, scheme, thickness)
-    if np.any(alpha > 1.0):
+    _not_above("phi", phi, "phic", phic)
+    _check_scheme(scheme)
+    alpha = _cement_radius(phi, phic, n, scheme, eps)
+    if alpha.size and np.max(alpha) > 1.0:
         raise ValueError(f"phi lies too far below phic for contact cement: the cement radius "
                          f"a/R reaches {float(np.max(alpha)):.3g} > 1 (the theory holds for a/R "
                          "up to about 0.5, a few per cent of cement)")
-    phic = as_array("phic", phic)
-    n = as_array("n", n)
     Lambda_n = 2.0 * (1.0 - nu0) * (1.0 - nuc) * (3.0 * Kc + Gc) / (3.0 * np.pi * G0)
     Lambda_t = Gc / (np.pi * G0)
     if stiffness not in ("fit", "integral"):
         raise ValueError(f"stiffness must be 'fit' or 'integral'; got {stiffness!r}")
-    eps = as_array("thickness", thickness)
+    Mc = Kc + 4.0 / 3.0 * Gc
     if stiffness == "fit":
         lo, hi = LAMBDA_RANGE
         for name, lam in (("Lambda_n", Lambda_n), ("Lambda_tau", Lambda_t)):
             check_range(f"{name}, the stiffness ratio of Kc, Gc to G0 in the CCT fit "
                         "(stiffness='integral' holds beyond it),", lam, lo, hi)
+        if not np.any(eps > 0.0):
+            # CCT (eq. 15) in blocks: K = k Sn, G = 3/5 K + g St, the quadratics in Horner form.
+            lowest = []
+
+            def kernel(alpha, k, g, An, Bn, Cn, At, Bt, Ct):
+                Sn = (An * alpha + Bn) * alpha + Cn
+                St = (At * alpha + Bt) * alpha + Ct
+                lowest.append(min(np.min(Sn), np.min(St)))
+                K = k * Sn
+                return K, 0.6 * K + g * St
+
+            K, G = blockwise(kernel, alpha, n * (1.0 - phic) * Mc / 6.0,
+                             0.15 * n * (1.0 - phic) * Gc,
+                             *_cct_coefficients(Lambda_n, Lambda_t, nu0))
+            _refuse_negative_fit(min(lowest, default=0.0), alpha)
+            return Moduli(K, G)
         Sn, St = _cct_stiffness(alpha, Lambda_n, Lambda_t, nu0)
-        if np.any((Sn < 0.0) | (St < 0.0)):
-            raise ValueError(f"phi lies too far below phic for the CCT fit at these Kc, Gc, "
-                             f"G0: the cement radius a/R reaches {float(np.max(alpha)):.3g}, "
-                             "where the fit's contact stiffness turns negative (it holds for "
-                             "a/R up to about 0.5; stiffness='integral' holds beyond it)")
+        _refuse_negative_fit(min(np.min(Sn), np.min(St)), alpha)
     if stiffness == "integral" or np.any(eps > 0.0):
         from .contact_integral import cemented_contact_stiffness
 
@@ -506,11 +615,19 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
             # With a gap and no cement the grains do not touch: the ratio (and S) is 0 there.
             Sn = np.where(thick, Sn * Sn_e / Sn0, Sn)
             St = np.where(thick, St * St_e / St0, St)
-    Mc = Kc + 4.0 / 3.0 * Gc
     K = n * (1.0 - phic) * Mc * Sn / 6.0
     G = 0.6 * K + 0.15 * n * (1.0 - phic) * Gc * St
     K, G = broadcast(K=K, G=G)
     return Moduli(K, G)
+
+
+def _refuse_negative_fit(lowest, alpha):
+    """Refuse a negative contact stiffness of the CCT fit (``lowest``: the least of S_n, S_tau)."""
+    if lowest < 0.0:
+        raise ValueError(f"phi lies too far below phic for the CCT fit at these Kc, Gc, "
+                         f"G0: the cement radius a/R reaches {float(np.max(alpha)):.3g}, "
+                         "where the fit's contact stiffness turns negative (it holds for "
+                         "a/R up to about 0.5; stiffness='integral' holds beyond it)")
 
 
 @labelled(units="GPa")
@@ -544,19 +661,50 @@ def constant_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.0)
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    K0, G0, phi, phic, phib = _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness)
-    b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
-    return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, b.K, b.G)
+    return _bounding(K0, G0, Kc, Gc, phi, phic, n, phib, scheme, thickness, stiff=False)
 
 
-def _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness):
-    """The checked K0, G0, phi, phic, phib of the constant- and increasing-cement models:
-    phi <= phib <= phic."""
-    K0, G0, _, _, phi, phic, _, phib, _ = _shapes(K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi,
-                                                  phic=phic, n=n, phib=phib, thickness=thickness)
+def _bounding(K0, G0, Kc, Gc, phi, phic, n, phib, scheme, thickness, *, stiff):
+    """Constant (``stiff=False``) or increasing cement: the arguments checked once (phi <= phib
+    <= phic), contact cement at phib, then the interpolation to the mineral in blocks."""
+    K0, G0, Kc, Gc, phi, phic, n, phib, eps = _shapes(
+        K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, phib=phib, thickness=thickness)
     _not_above("phib", phib, "phic", phic)
     _not_above("phi", phi, "phib", phib)
-    return K0, G0, phi, phic, phib
+    b = _contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, eps)
+    K_r, G_r = (K0, G0) if stiff else (b.K, b.G)
+    s, z = 4.0 / 3.0 * G_r, _zeta(K_r, G_r)
+    ends = (b.K + s, K0 + s, b.G + z, G0 + z)
+    if all(np.size(v) == 1 for v in (*ends, s, z)) and min(np.min(v) for v in ends) > 1e-300:
+        # End members and reference one number each (phib one number): the reciprocals of the
+        # four denominators once, the points in blocks (the operations of _harmonic2).
+        rK_b, rK_0, rG_b, rG_0 = (1.0 / np.reshape(v, ()) for v in ends)
+        s, z = np.reshape(s, ()), np.reshape(z, ())
+
+        def mix(x, x1, r_b, r_0, shift):
+            total = x * r_b
+            total += x1 * r_0
+            np.divide(1.0, total, out=total)
+            total -= shift
+            return np.maximum(total, 0.0) if total.min() < 0.0 else total
+
+        def kernel(phi, phib):
+            x = phi / phib
+            x1 = 1.0 - x
+            if not isinstance(x, np.ndarray) or x.ndim == 0:
+                return (_harmonic2(np.reshape(b.K, ()), np.reshape(K0, ()), x, s, x1),
+                        _harmonic2(np.reshape(b.G, ()), np.reshape(G0, ()), x, z, x1))
+            return mix(x, x1, rK_b, rK_0, s), mix(x, x1, rG_b, rG_0, z)
+
+        shape = np.broadcast_shapes(*(np.shape(v) for v in (K0, G0, Kc, Gc, phi, phic, n,
+                                                             phib, eps)))
+        return Moduli(*(v.reshape(shape) for v in blockwise(kernel, phi, phib)))
+
+    def kernel(K_b, G_b, K0, G0, phi, phib):
+        ref = (K0, G0) if stiff else (K_b, G_b)
+        return _hs_interpolate(K_b, G_b, K0, G0, phi / phib, *ref)
+
+    return Moduli(*blockwise(kernel, b.K, b.G, K0, G0, phi, phib))
 
 
 @labelled(units="GPa")
@@ -576,9 +724,7 @@ def increasing_cement(K0, G0, Kc, Gc, phi, phic, n, phib, scheme=1, thickness=0.
 
     Parameters and returns as in :func:`constant_cement`; valid for :math:`0 \le \phi \le \phi_b`.
     """
-    K0, G0, phi, phic, phib = _checked_bounding(K0, G0, Kc, Gc, phi, phic, n, phib, thickness)
-    b = contact_cement(K0, G0, Kc, Gc, phib, phic, n, scheme, thickness)
-    return _hs_interpolate(b.K, b.G, K0, G0, phi / phib, K0, G0)
+    return _bounding(K0, G0, Kc, Gc, phi, phic, n, phib, scheme, thickness, stiff=True)
 
 
 @labelled(units="GPa")
@@ -631,24 +777,41 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
     Moduli
         Dry-rock ``K``, ``G``, GPa.
     """
-    from .bounds import hashin_shtrikman_upper, hill
-    from .inclusions import self_consistent
-
-    K0, G0, Kc, Gc, phi, phic_arr, _, _, phip, limit = _shapes(
+    K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, eps, f, delta = _shapes(
         K0=K0, G0=G0, Kc=Kc, Gc=Gc, phi=phi, phic=phic, n=n, pressure=pressure,
         cement_fraction=cement_fraction, contact_cement_limit=contact_cement_limit,
-        thickness=thickness, f=f, delta=delta)[:10]
+        thickness=thickness, f=f, delta=delta)
     _not_above("phi", phi, "phic", phic_arr)
     _not_above("cement_fraction", phip, "phic", phic_arr)
+    return _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, scheme, eps,
+                          f, delta)
+
+
+def _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, scheme, eps, f,
+                   delta) -> Moduli:
+    """:func:`patchy_cement` of arguments checked by :func:`_shapes` (phi and phip <= phic)."""
+    from .bounds import _hill, _hs_upper
+    from .inclusions import self_consistent
+
+    # The building blocks below take the arguments checked by the caller (their own checks
+    # skipped).
     bonded = np.minimum(phip, limit)
-    cct = contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, thickness)
-    hm = hertz_mindlin(K0, G0, phic_arr, n, pressure, f, delta)
-    frac = np.clip(phip / phic_arr, 0.0, 1.0)
-    end_b = hashin_shtrikman_upper(stack_phases(cct.K, hm.K), stack_phases(cct.G, hm.G),
-                                   stack_phases(frac, 1.0 - frac))
+    cct = _contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, eps)
+    nu = _poisson("0", K0, G0)
+    # The zero-porosity end member depends on the minerals and phic only: one solve per
+    # distinct set (one for scalar arguments), not one per point.
     end_s = self_consistent(stack_phases(K0, Kc), stack_phases(G0, Gc),
                             stack_phases(1.0 - phic_arr, phic_arr), engine="numpy")
-    x = phi / phic_arr
-    K, G, w = (stack_phases(end_s.K, end_b.K), stack_phases(end_s.G, end_b.G),
-               stack_phases(1.0 - x, x))
-    return hill(K, G, w)
+
+    def kernel(K0, G0, phic, n, pressure, f, delta, nu, cct_K, cct_G, phip, phi, s_K, s_G):
+        hm_K, hm_G = _hm(K0, G0, phic, n, pressure, f, delta, nu)
+        frac = np.clip(phip / phic, 0.0, 1.0)
+        b_K, b_G = _hs_upper(*np.broadcast_arrays(stack_phases(cct_K, hm_K),
+                                                  stack_phases(cct_G, hm_G),
+                                                  stack_phases(frac, 1.0 - frac)))
+        x = phi / phic
+        return _hill(*np.broadcast_arrays(stack_phases(s_K, b_K), stack_phases(s_G, b_G),
+                                          stack_phases(1.0 - x, x)))
+
+    return Moduli(*blockwise(kernel, K0, G0, phic_arr, n, pressure, f, delta, nu, cct.K, cct.G,
+                             phip, phi, end_s.K, end_s.G))

@@ -24,13 +24,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .validation import (MAX_DENSITY, as_array, broadcast, broadcast_phases, check_fractions,
-                          check_range, stack_phases, sum_phases)
+from .validation import (BLOCK, MAX_DENSITY, as_array, broadcast, broadcast_phases,
+                          check_fractions, check_range, stack_phases, sum_phases)
 from .bounds import hashin_shtrikman_average
 from .elastic import velocities
 from .fluids import gassmann, generalized_gassmann
 from .frames import krief, krief_multimineral
-from .granular import _shapes, cement_radius, patchy_cement
+from .granular import _cement_radius, _patchy_cement, _shapes
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
 from .validation import FIELD_UNITS, labelled
@@ -78,6 +78,44 @@ def _solids(minerals: Sequence[Mineral], solid_fractions, porosity):
     rho = np.array([m.rho for m in minerals])
     beta, phi_b = broadcast(solid_fractions=beta, porosity=phi[..., None])
     return K, G, rho, beta, phi_b[..., 0]
+
+
+def _by_points(block, points, **const):
+    """``block(**points, **const)`` over blocks of :data:`rockcem.validation.BLOCK` points.
+
+    ``points`` maps a name to ``(array, tail)``: an array over the points with ``tail``
+    trailing axes of its own (1 for phases). The block function sees the same arguments, cut
+    along the points (flattened), so that its temporaries stay in cache; it returns a
+    :class:`RockProperties` over its points. All arithmetic and checks are those of ``block``
+    on each point; it runs on the whole input at once where the points are few, or where their
+    shapes do not broadcast (its own checks then name them).
+    """
+    arrays = {k: np.asarray(v) for k, (v, _) in points.items()}
+    tails = {k: t for k, (_, t) in points.items()}
+    try:
+        shape = np.broadcast_shapes(*(a.shape[:a.ndim - tails[k]] for k, a in arrays.items()))
+    except ValueError:
+        shape = ()
+    size = int(np.prod(shape))
+    if size <= 2 * BLOCK:
+        return block(**arrays, **const)
+    flat = {}
+    for k, a in arrays.items():
+        lead = a.shape[:a.ndim - tails[k]]
+        if int(np.prod(lead)) == 1:
+            flat[k] = a.reshape(a.shape[a.ndim - tails[k]:])     # one value for every point
+        else:
+            tail = a.shape[a.ndim - tails[k]:]
+            flat[k] = np.broadcast_to(a, shape + tail).reshape((size,) + tail)
+    out = None
+    for i in range(0, size, BLOCK):
+        part = block(**{k: a if a.ndim == tails[k] else a[i:i + BLOCK] for k, a in flat.items()},
+                     **const)
+        if out is None:
+            out = [np.empty(size) for _ in part]
+        for o, p in zip(out, part):
+            o[i:i + BLOCK] = p
+    return RockProperties(*(o.reshape(shape) for o in out))
 
 
 def _fluid(fluid) -> Fluid:
@@ -175,11 +213,17 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
+    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (fluid.K, 0),
+                                     "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
+
+
+def _hs_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
+    """Model 1 on a block of points (:func:`hs_gassmann`)."""
     mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
                                        np.broadcast_to(G, beta.shape), beta)
     dry = krief(mineral.K, mineral.G, phi, A)
-    K_sat = gassmann(dry.K, mineral.K, fluid.K, phi)
-    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, fluid.rho))
+    K_sat = gassmann(dry.K, mineral.K, K_f, phi)
+    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
@@ -253,12 +297,19 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
+    return _by_points(_generalized_gassmann, {"beta": (beta, 1), "phi": (phi, 0),
+                                              "K_f": (fluid.K, 0), "rho_f": (fluid.rho, 0),
+                                              "A": (A, 0)}, K=K, G=G, rho=rho)
+
+
+def _generalized_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
+    """Model 3 on a block of points (:func:`generalized_gassmann_model`)."""
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
-    K_sat = generalized_gassmann(frames.K, K_i, beta, fluid.K, phi)
+    K_sat = generalized_gassmann(frames.K, K_i, beta, K_f, phi)
     G_dry = sum_phases(frames.G)
     return _finish(sum_phases(frames.K), G_dry, K_sat, G_dry,
-                   bulk_density(rho, beta, phi, fluid.rho))
+                   bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS)
@@ -324,7 +375,9 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
         thickness=thickness, f=f, delta=delta)
     if scheme not in (1, 2) or isinstance(scheme, bool):
         raise ValueError(f"scheme must be 1 (cement at contacts) or 2 (coating); got {scheme!r}")
-    phi, phip, phic = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
+    # Shapes named together; critical_porosity is kept as given (usually one number), so that
+    # the frame's zero-porosity end member is solved once, not once per point.
+    phi, phip, _ = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
     if np.any(phi + phip > 1.0 + 1e-12):
         raise ValueError("porosity + cement_fraction must not exceed 1")
     for name, value in (("porosity", phi), ("cement_fraction", phip),
@@ -333,15 +386,18 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
             raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
                              f"{name} in [0, critical_porosity])")
     # The contact cement's radius, checked here to name the scene's keys; patchy_cement's
-    # contact_cement computes it again (a few vector operations).
-    alpha = cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
+    # contact_cement computes it again (a few vector operations). Its arguments are checked
+    # above (phic - min(phip, limit) lies in [0, phic]), so are patchy_cement's but the minerals'
+    # moduli, checked next: the building blocks' checks are skipped.
+    alpha = _cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
     if np.any(alpha > 1.0):
         raise ValueError(f"the cement at the grain contacts (cement_fraction up to "
                          f"contact_cement_limit) is more than the contact model holds at this "
                          f"coordination_number and critical_porosity: its radius a/R reaches "
                          f"{float(np.max(alpha)):.3g} > 1")
-    dry = patchy_cement(grain.K, grain.G, cement.K, cement.G, phi, phic, n, pressure, phip,
-                        limit, scheme, eps, f, delta)
+    K0, G0, Kc, Gc = _shapes(K0=grain.K, G0=grain.G, Kc=cement.K, Gc=cement.G)
+    dry = _patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, phip, limit, scheme, eps, f,
+                         delta)
     beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
     beta = stack_phases(1.0 - beta_c, beta_c)
     K = np.array([grain.K, cement.K])
