@@ -288,6 +288,9 @@ def _plot(args) -> int:
     args.kind = _plot_kind(ds, args, path)
     if args.depth and args.kind != "avo":
         raise ValueError("--depth chooses the depths of the reflectivity chart of --kind avo")
+    if (args.twt or args.trace_scale) and args.kind != "synthetic":
+        raise ValueError(f"--{'twt' if args.twt else 'trace-scale'} applies to --kind "
+                         "synthetic")
     if args.kind == "md-study":
         ds = _select(ds, args.select or [])
         out = output_file(args.output, _default_figure(path, args), figure=True)
@@ -331,7 +334,16 @@ def _plot_seismic(ds, args, path) -> int:
     name = args.output if args.output is not None else _default_figure(path, args)
     if args.kind == "synthetic":
         out = output_file(args.output, name, figure=True)
-        saved = [plots.save_figure(plots.synthetic_section(ds), out)]
+        if args.twt:
+            t0, t1 = args.twt
+            t = ds["twt"].values
+            if not (t0 < t1 and ((t >= t0) & (t <= t1)).sum() >= 2):
+                raise ValueError(f"--twt {t0:g} {t1:g}: give a window of two-way time (s), "
+                                 f"first below second, holding at least two samples of the "
+                                 f"synthetic (it covers {t[0]:g}-{t[-1]:g} s)")
+            ds = ds.sel(twt=slice(t0, t1))
+        scale = "trace" if args.trace_scale else "common"
+        saved = [plots.save_figure(plots.synthetic_section(ds, scale=scale), out)]
     else:
         name = Path(name)
         outs = [output_file(None if args.output is None else
@@ -555,6 +567,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="--kind avo: a depth (m) of the R_PP-against-angle chart (repeat for "
                         "more; default the whole kilometres within the file's range, at most "
                         "four)")
+    p.add_argument("--twt", type=float, nargs=2, metavar=("T0", "T1"),
+                   help="--kind synthetic: the window of two-way time drawn, s (default the "
+                        "whole synthetic)")
+    p.add_argument("--trace-scale", action="store_true",
+                   help="--kind synthetic: scale each trace to its own peak (default one gain "
+                        "for every trace of a row, so amplitudes compare)")
     p.add_argument("--select", action="append", metavar="KEY=VALUE",
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
                         "path.gradient=30; repeat for more values or dimensions)")

@@ -259,3 +259,26 @@ def test_plot_of_a_stack_file_draws_the_avo_charts_by_default(ds, tmp_path):
     assert main(["plot", str(nc)]) == 0
     for part in ("class", "crossplot", "angle"):
         assert (tmp_path / f"stack_avo_{part}.png").is_file()
+
+
+def test_plot_synthetic_window_and_scale(ds, tmp_path, capsys):
+    from rockcem.cli import main
+
+    nc = write_dataset(ds, tmp_path / "stack.nc")
+    out = tmp_path / "syn.png"
+    assert main(["plot", str(nc), "--kind", "synthetic", "--twt", "1.5", "2.5",
+                 "--trace-scale", "-o", str(out)]) == 0
+    assert out.is_file()
+    assert main(["plot", str(nc), "--kind", "synthetic", "--twt", "2.5", "1.5"]) == 2
+    assert "--twt 2.5 1.5: give a window" in capsys.readouterr().err
+    assert main(["plot", str(nc), "--kind", "avo", "--twt", "1", "2"]) == 2
+    assert "--twt applies to --kind synthetic" in capsys.readouterr().err
+
+
+def test_synthetic_section_window_draws_only_it(ds):
+    from rockcem.plots import synthetic_section
+
+    fig = synthetic_section(ds.sel(twt=slice(1.5, 2.5)), scale="trace")
+    lines = [ln for ln in fig.axes[0].get_lines() if str(ln.get_gid()).startswith("trace:")]
+    assert lines and all(1.5 - 1e-9 <= ln.get_ydata().min() and ln.get_ydata().max()
+                         <= 2.5 + 1e-9 for ln in lines)
