@@ -64,7 +64,13 @@ The synthetic column
     ``column_density`` (fluid, model, depth) take at each depth the values of the layer that
     occupies it, at that depth's burial state.
 
-Not in a stack (refused with a message): ``[sweep]``, a scene calibration and the MD backend.
+The MD backend
+    A sandstone layer may have ``[layers.models.md]``: the MD members give that layer's side
+    of the interfaces at the MD depths (the other layers' sides by their ``stand_in``), NaN
+    elsewhere. Its stage files lie in ``<stack output stem>_<layer>_md_work``; the reservoir's
+    fluid members share them (the MD frame does not depend on the fluid), so it runs once.
+
+Not in a stack (refused with a message): ``[sweep]`` and a scene calibration.
 
 This module reads and checks the keys; :mod:`rockcem._stack_dataset` evaluates the layers and
 builds the Dataset.
@@ -295,9 +301,6 @@ def _layer_spec(i, given, base_dir):
     if not sections["models"]:
         _fail(f"layer {name!r} has no model: the interfaces need its vp and vs (give "
               "[layers.models.*] or a scene with models)")
-    if "md" in sections["models"]:
-        _fail(f"scene key {where}.models.md: the MD backend does not run in a stack yet; "
-              "run the layer's MD as a plain scene")
     if keys["thickness"] is not None and not keys["thickness"] > 0:
         _fail(f"scene key {where}.thickness must be > 0 m; got {keys['thickness']:g}")
     if keys["stand_in"] is not None and keys["stand_in"] not in sections["models"]:

@@ -37,10 +37,18 @@ class InterfaceProperties(NamedTuple):
 
 
 # ----------------------------------------------------------------------------- evaluation
-def evaluate_stack(scene):
+def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
     """The Dataset of a stack scene: each layer evaluated as its plain scene on the stack's
     path (:func:`rockcem.runner.evaluate`), the reservoir once per fluid, joined along
-    ``layer`` and ``fluid``; the interfaces and, with thicknesses, the synthetic column."""
+    ``layer`` and ``fluid``; the interfaces and, with thicknesses, the synthetic column.
+
+    A layer with the MD backend runs it on ``scheduler`` / ``jobs``; its stage files lie in
+    ``<stack output stem>_<layer>_md_work`` (or the layer's ``models.md.workdir``), shared by
+    its fluid members: the MD frame does not depend on the pore fluid (it enters by Gassmann),
+    so the second and later fluids read the first one's stages instead of running again."""
+    import dataclasses
+    from pathlib import Path
+
     from .runner import evaluate
     from .validation import prefixed_errors
 
@@ -51,7 +59,12 @@ def evaluate_stack(scene):
         for member, sub in layer.scenes.items():
             with prefixed_errors(f"layer {layer.name!r}"
                                  + (f" with {member}" if member != "brine" else "")):
-                runs[layer.name, member] = evaluate(sub)
+                if "md" in sub.models:
+                    out = Path(scene.output)
+                    sub = dataclasses.replace(
+                        sub, output=str(out.with_name(f"{out.stem}_{layer.name}{out.suffix}")))
+                runs[layer.name, member] = evaluate(sub, scheduler=scheduler, jobs=jobs,
+                                                    progress=progress)
     first = runs[scene.layers[0].name, next(iter(scene.layers[0].scenes))]
     depth = first["depth"].values
     models = list(scene.models)

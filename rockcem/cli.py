@@ -224,7 +224,9 @@ def _run(args) -> int:
     out = output_file(args.output, scene.output)
     if args.output is None:
         unasked_output(out, scene_file)
-    if "md" in scene.models:
+    if scene.layers:                    # a stack: its MD layers' stages follow -o
+        scene = dataclasses.replace(scene, output=str(out))
+    elif "md" in scene.models:
         # The stage folder follows the file written (-o), as the docs say: <output
         # stem>_md_work, unless models.md.workdir names one.
         scene = dataclasses.replace(scene, output=str(out))

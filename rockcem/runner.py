@@ -321,7 +321,7 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     if scene.layers:                    # a stack of lithologies (rockcem._scene_stack)
         from ._stack_dataset import evaluate_stack
 
-        ds = evaluate_stack(scene)
+        ds = evaluate_stack(scene, scheduler=scheduler, jobs=jobs, progress=progress)
         if "seismic" in scene.sections:     # reflectivity, AVO and synthetics when asked
             from ._stack_seismic import add_seismic
 

@@ -305,7 +305,8 @@ BAD = [
                                           r"layer's models"),
     (_layer(1, stand_in="hs_gassmann"), r"layers\[1\] \(reservoir\).stand_in: the layer has "
                                         r"every model"),
-    (_layer(1, models={"md": {}}), r"MD backend does not run in a stack"),
+    (_layer(0, models={"md": {}, "generalized_gassmann": {}}),
+     r"layer 'seal': model 'md' \(the MD grain pack\) is a sandstone model"),
     (_layer(1, models={}), r"layer 'reservoir' has no model"),
     (_layer(0, scene="no_such_scene"), r"scene key layers\[0\] \(seal\).scene: no scene file"),
     (_layer(0, scene="garcia_medina_cement"), r"is an MD study scene"),

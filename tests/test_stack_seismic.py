@@ -282,3 +282,52 @@ def test_synthetic_section_window_draws_only_it(ds):
     lines = [ln for ln in fig.axes[0].get_lines() if str(ln.get_gid()).startswith("trace:")]
     assert lines and all(1.5 - 1e-9 <= ln.get_ydata().min() and ln.get_ydata().max()
                          <= 2.5 + 1e-9 for ln in lines)
+
+
+MD_KEYS = {"depths": [2500.0], "schemes": ["coating"], "size": [3.0, 3.0, 6.0],
+           "resolution": 3.0, "samples": 1}
+
+
+@pytest.mark.slow
+def test_md_gives_the_reservoir_side_at_its_depths(tmp_path):
+    """A sandstone layer with the MD backend: at its depth the reservoir's side of the
+    interface is the MD member of the same scene run alone (a plain run, its own stage
+    folder), the seal's its stand_in; the two fluids share one stage folder (the MD runs
+    once)."""
+    from rockcem.scene import load_scene
+
+    raw = _raw({"max_angle": 20.0, "angle_step": 10.0})
+    raw["path"]["depth_step"] = 500.0
+    raw["pressure"] = {"sediment_density": 2.5, "water_density": 1.04}
+    raw["layers"][1] = {"name": "reservoir", "scene": "carcione2022_sandstone_md",
+                        "stand_in": "patchy_cement",
+                        "models": {"patchy_cement": {}, "md": dict(MD_KEYS)}}
+    scene = scene_from_dict(raw)
+    import dataclasses
+
+    scene = dataclasses.replace(scene, output=str(tmp_path / "stack.nc"))
+    ds = run_scene(scene)
+    work = sorted(p.name for p in tmp_path.iterdir())
+    assert work == ["stack_reservoir_md_work"]
+    assert len(list((tmp_path / "stack_reservoir_md_work").iterdir())) == 1
+
+    same = {f"path.{k}": v for k, v in raw["path"].items()}
+    same.update({f"fluid.{k}": v for k, v in raw["fluid"].items() if k != "saturation"})
+    same.update({"pressure.sediment_density": 2.5, "pressure.water_density": 1.04})
+    alone = load_scene("carcione2022_sandstone_md").replace(
+        **{f"models.md.{k}": v for k, v in MD_KEYS.items()}, **same)
+    alone = dataclasses.replace(alone, output=str(tmp_path / "alone" / "alone.nc"))
+    (tmp_path / "alone").mkdir()
+    plain = run_scene(alone)
+    vp_md = float(plain["vp"].sel(model="md", depth=2500.0))
+    sides = ds["reflectivity_pp"].sel(interface="seal/reservoir", fluid="brine", model="md",
+                                      depth=2500.0, angle=0.0)
+    z1 = float(ds["vp"].sel(layer="seal", fluid="brine", model="generalized_gassmann",
+                            depth=2500.0) * ds["density"].sel(layer="seal", fluid="brine",
+                                                              depth=2500.0))
+    rho2 = float(ds["density"].sel(layer="reservoir", fluid="brine", depth=2500.0))
+    z2 = vp_md * rho2
+    assert float(ds["vp"].sel(layer="reservoir", fluid="brine", model="md",
+                              depth=2500.0)) == pytest.approx(vp_md, rel=1e-12)
+    assert float(sides) == pytest.approx((z2 - z1) / (z2 + z1), abs=1e-12)
+    assert np.isnan(ds["reflectivity_pp"].sel(model="md", depth=1000.0)).all()
