@@ -88,7 +88,9 @@ def key_range(dotted, sections):
     functions and the models, whose constants are imported from there), narrowed where a
     fixed key of the scene bounds another: the gradient by the path's largest temperature
     (:data:`burial.path.MAX_TEMPERATURE_C` at ``max_depth``), the sedimentation rate by the age
-    of the Earth (:data:`burial.path.MAX_TIME_MYR`), the water density by the sediment's.
+    of the Earth (:data:`burial.path.MAX_TIME_MYR`), the water density by the sediment's, a
+    sandstone's initial porosity and final IGV by each other, Model 4's contact cement limit
+    by the critical porosity.
 
     Raises
     ------
@@ -128,6 +130,11 @@ def key_range(dotted, sections):
         if key == "sediment_density":
             return sections["pressure"]["water_density"], MAX_DENSITY, False, False, unit
         return 0.0, sections["pressure"]["sediment_density"], True, False, unit
+    if section == "sandstone" and key in ("porosity0", "igv_final"):
+        # eq. B.7: the IGV falls from porosity0 towards igv_final (burial.intergranular_volume)
+        rock = sections["sandstone"]
+        return ((rock["igv_final"], 1.0, rock["igv_final"] == 0.0, True, unit)
+                if key == "porosity0" else (0.0, rock["porosity0"], False, False, unit))
     if section in ("sandstone", "shale"):
         table = {"porosity0": (0.0, 1.0, True, True), "quartz_fraction": (0.0, 1.0, False, False),
                  "grain_size": (MIN_GRAIN_SIZE_MM, inf, False, True),
@@ -153,7 +160,8 @@ def key_range(dotted, sections):
         from .granular import MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA
 
         table = {"coordination_number": (0.0, MAX_COORDINATION_NUMBER, True, False),
-                 "contact_cement_limit": (0.0, 1.0, True, False),
+                 # at most the critical porosity (rockcem.models.patchy_cement_model)
+                 "contact_cement_limit": (0.0, sections["sandstone"]["porosity0"], True, False),
                  "delta": (0.0, MAX_PRESSURE_MPA, False, False),
                  "thickness": (0.0, inf, False, True), "f": (0.0, 1.0, False, False)}
         return (*table[key], unit)

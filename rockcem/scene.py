@@ -377,7 +377,9 @@ def _check_value(where, key, value, kind):
     return value
 
 
-def _section(where, given, schema):
+def _section(where, given, schema, uncertain=()):
+    """A section's keys checked, defaults filled in; a required key that is ``uncertain``
+    (``"section.key"``) is None until its distribution is checked."""
     if not isinstance(given, dict):
         raise ValueError(f"scene section [{where}] must be a table")
     unknown = [k for k in given if k not in schema]
@@ -387,6 +389,8 @@ def _section(where, given, schema):
     for key, (default, kind, _unit, doc) in schema.items():
         if key in given:
             out[key] = _check_value(where, key, given[key], kind)
+        elif default is _REQUIRED and f"{where}.{key}" in uncertain:
+            out[key] = None
         elif default is _REQUIRED:
             raise ValueError(f"scene key {where}.{key} is required ({doc})")
         else:
@@ -454,7 +458,8 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
                 and given.get("calibration") is not None:
             given, calibrations[label] = _apply_calibration(label, given, base_dir)
         sections[f"models.{label}"] = _section(f"models.{label}", given,
-                                               SCHEMA[f"models.{label}"])
+                                               SCHEMA[f"models.{label}"],
+                                               raw.get("uncertain", {}))
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
     uncertain, given = _uncertain(raw, sections, sweep, models, lithology, scene_cal,
                                   calibrations)
