@@ -34,6 +34,30 @@ Within a chunk the burial kinetics run member by member (they take one path each
 petro-elastic models, which are pointwise in depth, run once on all the chunk's (member, depth)
 points; a scene whose pore fluid varies with depth or holds a hydrocarbon runs each member
 through the scene runner instead (:func:`rockcem.runner.evaluate`).
+
+References
+----------
+Devroye, L. (1986). *Non-Uniform Random Variate Generation*. Springer, ch. II.2.
+
+Hyndman, R. J. & Fan, Y. (1996). Sample quantiles in statistical packages. *The American
+Statistician* 50(4), 361-365.
+
+Iman, R. L. & Conover, W. J. (1982). A distribution-free approach to inducing rank correlation
+among input variables. *Communications in Statistics - Simulation and Computation* 11(3),
+311-334.
+
+McKay, M. D., Beckman, R. J. & Conover, W. J. (1979). A comparison of three methods for selecting
+values of input variables in the analysis of output from a computer code. *Technometrics*
+21(2), 239-245.
+
+Owen, A. B. (1998). Scrambling Sobol' and Niederreiter-Xing points. *Journal of Complexity*
+14(4), 466-489.
+
+Rao, C. R. (1973). *Linear Statistical Inference and its Applications*, 2nd ed. Wiley,
+sect. 6f.2.
+
+Walker, A. M. (1968). A note on the asymptotic distribution of sample quantiles. *Journal of the
+Royal Statistical Society B* 30(3), 570-575.
 """
 
 from __future__ import annotations
@@ -703,7 +727,7 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
     warnings = [w for p in parts for w in p[1]]
     q = np.asarray(spec["quantiles"])
     template = _template(scene)
-    out = {name: (("quantile",) + dims, np.quantile(a.astype(float), q, axis=0))
+    out = {name: (("quantile",) + dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
            for name, (dims, a) in data.items()}
     names = member_names(scene)
     if spec["members"]:
