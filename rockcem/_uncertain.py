@@ -380,9 +380,19 @@ def validate_uncertain(raw, sections, sweep, *, models, lithology):
     members = top.get("members", False)
     if not isinstance(members, bool):
         raise ValueError(f"scene key uncertain.members must be true or false; got {members!r}")
+    if members and sweep:
+        raise ValueError("scene key uncertain.members = true does not apply beside a [sweep] "
+                         "(each swept combination draws its own members); run the swept "
+                         "values as scenes of their own to keep their members")
     out = {}
     for dotted, entry in keys.items():
         section, _, key = dotted.rpartition(".")
+        if "distribution" not in entry and entry and all(isinstance(v, dict)
+                                                         for v in entry.values()):
+            inner = next(iter(entry))
+            raise ValueError(f"scene section [uncertain.{dotted}.{inner}...]: quote the key, "
+                             f"[uncertain.\"{dotted}.{inner}\"] (a dotted key unquoted is a "
+                             "table in a table)")
         if section == "models.md":
             key_range(dotted, sections)                     # refuses MD keys by name
         if section not in SCHEMA or key not in SCHEMA[section]:
@@ -402,6 +412,9 @@ def validate_uncertain(raw, sections, sweep, *, models, lithology):
         out[dotted] = _check_entry(dotted, entry, key_range(dotted, sections))
     names = list(out)
     C = _check_correlations(top.get("rank_correlations"), names)
+    if C is not None and samples <= len(names) + 1:
+        raise ValueError(f"scene key uncertain.samples = {samples}: rank correlations between "
+                         f"{len(names)} inputs need more than {len(names) + 1} members")
     return {"samples": samples, "seed": seed, "design": design,
             "quantiles": [float(q) for q in quantiles], "members": members, "keys": out,
             "correlation": None if C is None else C.tolist()}

@@ -74,6 +74,10 @@ def quiet_run(s, **kw):
     ({"samples": 8, "seed": -1, "path.gradient": GRADIENT}, "seed must be an integer >= 0"),
     ({"samples": 8, "sample": 9, "path.gradient": GRADIENT}, "unknown scene key uncertain.sample"),
     ({"samples": 8}, "names no key"),
+    ({"samples": 8, "path": {"gradient": GRADIENT}}, r'quote the key, \[uncertain."path.gradient"\]'),
+    ({"samples": 3, "path.gradient": GRADIENT, "sandstone.grain_size": GRADIENT,
+      "rank_correlations": [["path.gradient", "sandstone.grain_size", 0.5]]},
+     "need more than 3 members"),
     ({"samples": 8, "path.gradient": {"distribution": "normal", "mean": 30, "sd": 30}},
      r"puts 0.159 of its probability outside the valid range \(0, 161.667\] degC/km of "
      r"path.gradient.*truncate = true"),
@@ -265,6 +269,27 @@ def test_members_together_equal_members_one_by_one():
     assert w1 == w2
 
 
+def test_shale_members_together_equal_members_one_by_one():
+    from rockcem._uncertain import _evaluate_each
+
+    raw = {"name": "shale", "lithology": "shale",
+           "path": {"max_depth": 3000.0, "depth_step": 100.0},
+           "models": {"hs_gassmann": {}, "self_consistent": {"aspect_ratio": 0.17}},
+           "uncertain": {"samples": 5, "path.gradient": GRADIENT, "shale.r0": {
+               "distribution": "uniform", "lower": 0.6, "upper": 0.99},
+               "models.hs_gassmann.A": {"distribution": "uniform", "lower": 2.0, "upper": 4.0}}}
+    s = scene_from_dict(raw)
+    values = sample_inputs(s.uncertain)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        together, w1 = evaluate_chunk(s, values)
+        each, w2 = _evaluate_each(s, values, 5)
+    for name in each:
+        np.testing.assert_allclose(together[name][1], each[name][1], rtol=1e-12, atol=1e-14,
+                                   err_msg=name)
+    assert w1 == w2
+
+
 def test_fluid_scene_runs_member_by_member():
     s = scene({"samples": 3, "path.gradient": GRADIENT, "fluid.salinity":
                {"distribution": "uniform", "lower": 0.0, "upper": 0.1}},
@@ -304,6 +329,12 @@ def test_validity_warnings_count_their_members():
     assert 0 < expect < 12
     line = next(w for w in ds.attrs["validity_warnings"].split("\n") if "overfill" in w)
     assert line.startswith(f"[{expect} of 12 members; depths of member ")
+
+
+def test_members_beside_a_sweep_are_refused():
+    with pytest.raises(ValueError, match="members = true does not apply beside a"):
+        scene({"samples": 4, "members": True, "path.gradient": GRADIENT},
+              **{"sweep": {"sandstone.quartz_fraction": [0.6, 0.7]}})
 
 
 def test_sweep_and_uncertain_compose():
