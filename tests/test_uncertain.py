@@ -253,15 +253,15 @@ def test_members_are_the_scene_runs_of_their_inputs():
                                                             [0.1, 0.5, 0.9], axis=0))
 
 
-def test_members_together_equal_members_one_by_one():
+def assert_together_is_one_by_one(s):
+    """The chunk's models run on all (member, depth) points equal each member's own run."""
     from rockcem._uncertain import _evaluate_each
 
-    s = scene(MANY)
     values = sample_inputs(s.uncertain)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         together, w1 = evaluate_chunk(s, values)
-        each, w2 = _evaluate_each(s, values, 6)
+        each, w2 = _evaluate_each(s, values, s.uncertain["samples"])
     assert together.keys() == each.keys()
     for name in together:
         np.testing.assert_allclose(together[name][1], each[name][1], rtol=1e-12, atol=1e-14,
@@ -269,25 +269,17 @@ def test_members_together_equal_members_one_by_one():
     assert w1 == w2
 
 
-def test_shale_members_together_equal_members_one_by_one():
-    from rockcem._uncertain import _evaluate_each
+def test_members_together_equal_members_one_by_one():
+    assert_together_is_one_by_one(scene(MANY))
 
-    raw = {"name": "shale", "lithology": "shale",
-           "path": {"max_depth": 3000.0, "depth_step": 100.0},
-           "models": {"hs_gassmann": {}, "self_consistent": {"aspect_ratio": 0.17}},
-           "uncertain": {"samples": 5, "path.gradient": GRADIENT, "shale.r0": {
-               "distribution": "uniform", "lower": 0.6, "upper": 0.99},
-               "models.hs_gassmann.A": {"distribution": "uniform", "lower": 2.0, "upper": 4.0}}}
-    s = scene_from_dict(raw)
-    values = sample_inputs(s.uncertain)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        together, w1 = evaluate_chunk(s, values)
-        each, w2 = _evaluate_each(s, values, 5)
-    for name in each:
-        np.testing.assert_allclose(together[name][1], each[name][1], rtol=1e-12, atol=1e-14,
-                                   err_msg=name)
-    assert w1 == w2
+
+def test_shale_members_together_equal_members_one_by_one():
+    assert_together_is_one_by_one(scene_from_dict({
+        "name": "shale", "lithology": "shale", "path": {"max_depth": 3000.0, "depth_step": 100.0},
+        "models": {"hs_gassmann": {}, "self_consistent": {"aspect_ratio": 0.17}},
+        "uncertain": {"samples": 5, "path.gradient": GRADIENT, "shale.r0": {
+            "distribution": "uniform", "lower": 0.6, "upper": 0.99},
+            "models.hs_gassmann.A": {"distribution": "uniform", "lower": 2.0, "upper": 4.0}}}))
 
 
 def test_fluid_scene_runs_member_by_member():
@@ -385,3 +377,13 @@ def test_shipped_scene_loads_and_runs_small():
     ds = quiet_run(small)
     assert ds["vp"].shape == (3, 4, 13)
     assert np.all(np.diff(ds["vp"].values, axis=0) >= 0)       # P10 <= P50 <= P90
+
+
+def test_chunks_on_dask_equal_the_serial_run():
+    pytest.importorskip("dask.distributed")
+    xr = pytest.importorskip("xarray")
+    s = scene({"samples": 300, "path.gradient": GRADIENT},        # two chunks of members
+              **{"path.depth_step": 500.0, "outputs": ["porosity", "vp"]})
+    serial, on_dask = quiet_run(s), quiet_run(s, scheduler="local")
+    xr.testing.assert_identical(serial.drop_attrs(), on_dask.drop_attrs())
+    assert serial.attrs["validity_warnings"] == on_dask.attrs["validity_warnings"]
