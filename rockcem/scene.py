@@ -496,8 +496,8 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
              if k in given["path"] or f"path.{k}" in sweep]
     if len(rates) == 2:
         raise ValueError("scene keys path.sedimentation_rate and path.heating_rate both given "
-                         "(set, swept or uncertain): heating_rate sets the burial rate (S = H / G), so "
-                         "give one of them")
+                         "(set, swept or uncertain): heating_rate sets the burial rate "
+                         "(S = H / G), so give one of them")
     for dotted in sweep:
         section, _, key = dotted.rpartition(".")
         if scene_cal is not None and dotted in scene_cal["parameters"]:

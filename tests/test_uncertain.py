@@ -74,7 +74,8 @@ def quiet_run(s, **kw):
     ({"samples": 8, "seed": -1, "path.gradient": GRADIENT}, "seed must be an integer >= 0"),
     ({"samples": 8, "sample": 9, "path.gradient": GRADIENT}, "unknown scene key uncertain.sample"),
     ({"samples": 8}, "names no key"),
-    ({"samples": 8, "path": {"gradient": GRADIENT}}, r'quote the key, \[uncertain."path.gradient"\]'),
+    ({"samples": 8, "path": {"gradient": GRADIENT}},
+     r'quote the key, \[uncertain."path.gradient"\]'),
     ({"samples": 3, "path.gradient": GRADIENT, "sandstone.grain_size": GRADIENT,
       "rank_correlations": [["path.gradient", "sandstone.grain_size", 0.5]]},
      "need more than 3 members"),
@@ -387,3 +388,20 @@ def test_chunks_on_dask_equal_the_serial_run():
     serial, on_dask = quiet_run(s), quiet_run(s, scheduler="local")
     xr.testing.assert_identical(serial.drop_attrs(), on_dask.drop_attrs())
     assert serial.attrs["validity_warnings"] == on_dask.attrs["validity_warnings"]
+
+
+def test_horizon_histories_together_equal_one_by_one():
+    """A table of horizon histories: each member's state is its horizons' present-day ends."""
+    from rockcem.scene import read_scene_toml, scene_path
+
+    raw, _ = read_scene_toml("synthetic_basin_horizons")
+    del raw["sandstone"]["grain_size"]
+    raw["uncertain"] = {"samples": 4, "sandstone.grain_size": {
+        "distribution": "lognormal", "median": 0.3, "sigma": 0.3},
+        "pressure.sediment_density": {"distribution": "uniform", "lower": 2.3, "upper": 2.5}}
+    s = scene_from_dict(raw, base_dir=scene_path("synthetic_basin_horizons").parent)
+    assert_together_is_one_by_one(s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = evaluate(s)
+    assert "horizon" in ds.coords and ds["vp"].dims == ("quantile", "model", "depth")
