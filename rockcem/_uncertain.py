@@ -719,25 +719,40 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
                          f"{8 * per_member * N / 2 ** 30:.3g} GiB, above "
                          f"{MAX_UNCERTAIN_BYTES / 2 ** 30:g} GiB; lower uncertain.samples, "
                          "raise path.depth_step or ask fewer outputs")
+    # Every member's values go straight into one array per variable (no copy of them all).
+    data = {name: (dims, np.empty((N,) + a.shape[1:], dtype=a.dtype))
+            for name, (dims, a) in first[0].items()}
+    warnings = [None] * N
+
+    def put(index, part):
+        lo, hi = bounds[index], bounds[index + 1]
+        for name, (_dims, a) in part[0].items():
+            data[name][1][lo:hi] = a
+        warnings[lo:hi] = part[1]
+
     if scheduler is None:
+        order = range(len(chunks))
         if progress:
             from tqdm.auto import tqdm
 
-            chunks = tqdm(chunks, desc=scene.name, unit="chunk")
-        parts = [evaluate_chunk(scene, c) for c in chunks]
+            order = tqdm(order, desc=scene.name, unit="chunk")
+        for index in order:
+            put(index, evaluate_chunk(scene, chunks[index]))
     else:
         from ._scheduler import dask_client
 
         with dask_client(scheduler, 2, what="running uncertain members on dask") as client:
+            from dask.distributed import as_completed
+
             futures = client.map(evaluate_chunk, [scene] * len(chunks), chunks, pure=False)
+            where = {f.key: i for i, f in enumerate(futures)}
             if progress:
                 from dask.distributed import progress as dask_progress
 
                 dask_progress(futures)
-            parts = client.gather(futures)
-    data = {name: (dims, np.concatenate([p[0][name][1] for p in parts]))
-            for name, (dims, _a) in parts[0][0].items()}
-    warnings = [w for p in parts for w in p[1]]
+            for future, part in as_completed(futures, with_results=True):
+                put(where[future.key], part)
+                future.release()
     q = np.asarray(spec["quantiles"])
     template = _template(scene)
     out = {name: (("quantile",) + dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
