@@ -315,7 +315,8 @@ def _calibration_attrs(scene):
 
 def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     """The Dataset of one scene member (no sweep); its MD members (if any) run on
-    ``scheduler`` / ``jobs`` (:func:`md._tasks.run_tasks`)."""
+    ``scheduler`` / ``jobs`` (:func:`md._tasks.run_tasks`), the members of its uncertain
+    inputs (``[uncertain]``, :func:`rockcem._uncertain.evaluate_uncertain`) there too."""
     from .variables import build_dataset
 
     if scene.layers:                    # a stack of lithologies (rockcem._scene_stack)
@@ -327,6 +328,10 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
 
             add_seismic(ds, scene)
         return ds
+    if scene.uncertain:                 # members of uncertain inputs (rockcem._uncertain)
+        from ._uncertain import evaluate_uncertain
+
+        return evaluate_uncertain(scene, scheduler=scheduler, progress=progress)
     pipe = _Pipeline(scene, scheduler=scheduler, jobs=jobs, progress=progress)
     depth = pipe.now(pipe.path.depth)
     data = {}

@@ -267,7 +267,7 @@ SCHEMA: dict[str, dict[str, tuple]] = {
 CALIBRATED_MODELS = ("patchy_cement",)
 
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "fluid", "models",
-                 "sweep"}
+                 "sweep", "uncertain"}
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
 #: Variables that depend on the petro-elastic model (dimension ``model``).
 MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
@@ -311,6 +311,9 @@ class Scene:
     #: A stack ([[layers]]; lithology "stack"): its layers, top to bottom
     #: (:class:`rockcem._scene_stack.StackLayer`); empty for a single-lithology scene.
     layers: tuple = ()
+    #: The checked ``[uncertain]`` section (:func:`rockcem._uncertain.validate_uncertain`);
+    #: empty without one. ``sections`` hold each uncertain key's median.
+    uncertain: dict = field(default_factory=dict)
 
     def replace(self, **params) -> Scene:
         """A copy with parameters changed, keys as ``"section.key"`` (``"path.gradient"``); the
@@ -374,7 +377,9 @@ def _check_value(where, key, value, kind):
     return value
 
 
-def _section(where, given, schema):
+def _section(where, given, schema, uncertain=()):
+    """A section's keys checked, defaults filled in; a required key that is ``uncertain``
+    (``"section.key"``) is None until its distribution is checked."""
     if not isinstance(given, dict):
         raise ValueError(f"scene section [{where}] must be a table")
     unknown = [k for k in given if k not in schema]
@@ -384,6 +389,8 @@ def _section(where, given, schema):
     for key, (default, kind, _unit, doc) in schema.items():
         if key in given:
             out[key] = _check_value(where, key, given[key], kind)
+        elif default is _REQUIRED and f"{where}.{key}" in uncertain:
+            out[key] = None
         elif default is _REQUIRED:
             raise ValueError(f"scene key {where}.{key} is required ({doc})")
         else:
@@ -451,10 +458,13 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
                 and given.get("calibration") is not None:
             given, calibrations[label] = _apply_calibration(label, given, base_dir)
         sections[f"models.{label}"] = _section(f"models.{label}", given,
-                                               SCHEMA[f"models.{label}"])
-    _check_path_kind(raw.get("path", {}), sections["path"], base_dir)
+                                               SCHEMA[f"models.{label}"],
+                                               raw.get("uncertain", {}))
     sweep = _validate_sweep(raw.get("sweep", {}), sections)
-    _check_fluid(raw.get("fluid", {}), sections["fluid"], sweep, _sweep_member)
+    uncertain, given = _uncertain(raw, sections, sweep, models, lithology, scene_cal,
+                                  calibrations)
+    _check_path_kind(given["path"], sections["path"], base_dir)
+    _check_fluid(given["fluid"], sections["fluid"], sweep, _sweep_member)
     models_of_fluid = sweep.get("fluid.model", [sections["fluid"]["model"]])
     # Batzle & Wang's brine is water of the path's temperature and pressure: a catalogue fluid
     # other than water would be dropped without a word.
@@ -483,11 +493,11 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
                         "own)")
             raise ValueError(f"scene output {name!r} is not available for this scene{hint}")
     rates = [k for k in ("sedimentation_rate", "heating_rate")
-             if k in raw.get("path", {}) or f"path.{k}" in sweep]
+             if k in given["path"] or f"path.{k}" in sweep]
     if len(rates) == 2:
         raise ValueError("scene keys path.sedimentation_rate and path.heating_rate both given "
-                         "(set or swept): heating_rate sets the burial rate (S = H / G), so "
-                         "give one of them")
+                         "(set, swept or uncertain): heating_rate sets the burial rate "
+                         "(S = H / G), so give one of them")
     for dotted in sweep:
         section, _, key = dotted.rpartition(".")
         if scene_cal is not None and dotted in scene_cal["parameters"]:
@@ -510,7 +520,37 @@ def scene_from_dict(raw: dict, *, text: str | None = None, base_dir=None,
         text = _to_toml(original)
     return Scene(head["name"], lithology, tuple(outputs), head["output"] or f"{head['name']}.nc",
                  models, sections, sweep, text, head["description"],
-                 None if base_dir is None else str(base_dir), calibrations)
+                 None if base_dir is None else str(base_dir), calibrations, uncertain=uncertain)
+
+
+def _uncertain(raw, sections, sweep, models, lithology, scene_cal, calibrations):
+    """The checked ``[uncertain]`` section (empty without one), each uncertain key's median
+    set in ``sections``, and the [path] and [fluid] keys given (fixed or uncertain) for the
+    checks of which keys apply."""
+    given = {"path": dict(raw.get("path", {})), "fluid": dict(raw.get("fluid", {}))}
+    if "uncertain" not in raw:
+        return {}, given
+    from ._uncertain import nominal_value, validate_uncertain
+
+    spec = validate_uncertain(raw["uncertain"], sections, sweep, models=models,
+                              lithology=lithology)
+    for dotted, entry in spec["keys"].items():
+        section, _, key = dotted.rpartition(".")
+        cal = calibrations.get(section.removeprefix("models.")) \
+            if section.startswith("models.") else None
+        for c, name in ((scene_cal, dotted), (cal, key)):
+            if c is not None and name in c["parameters"]:
+                raise ValueError(f"uncertain key {dotted}: that parameter is set by "
+                                 f"calibration {c['name']!r}; remove one of them")
+        table = raw.get("models", {}).get(section[7:], {}) if section.startswith("models.") \
+            else raw.get(section, {})
+        if isinstance(table, dict) and key in table:
+            raise ValueError(f"scene key {dotted} is both set ({table[key]!r}) and uncertain; "
+                             "remove one of them")
+        sections[section][key] = nominal_value(entry)
+        if section in given:
+            given[section][key] = sections[section][key]
+    return spec, given
 
 
 def _apply_calibration(label, given, base_dir):
@@ -543,6 +583,11 @@ def _apply_calibration(label, given, base_dir):
 FLUID_MODELS = ("constant", "batzle_wang")
 HYDROCARBONS = ("none", "gas", "oil", "co2", "methane")
 MIXING_LAWS = ("wood", "brie", "patchy")
+#: The ranges of the [fluid] numbers: (low, high, text); salinity's upper end is open.
+FLUID_RANGES = {"salinity": (0.0, 0.35, "[0, 0.35)"), "saturation": (0.0, 1.0, "[0, 1]"),
+                "brie_exponent": (1.0, 40.0, "[1, 40]"), "gas_gravity": (0.5, 2.0, "[0.5, 2]"),
+                "oil_api": (0.0, 150.0, "[0, 150]"), "gas_oil_ratio": (0.0, 1e4, "[0, 1e4]"),
+                "top": (0.0, np.inf, ">= 0 m"), "base": (0.0, np.inf, ">= 0 m")}
 #: [fluid] keys and the hydrocarbons (or the model) they apply to.
 _FLUID_KEY_USE = {"salinity": ("model", "batzle_wang"),
                   "saturation": ("hydrocarbon", HYDROCARBONS[1:]),
@@ -597,11 +642,7 @@ def _check_fluid(given, fluid, sweep, sweep_member):
         raise ValueError(f"scene key fluid.saturation is required with hydrocarbon = "
                          f"{carbons[0]!r} (the hydrocarbon's share of the pore space in the "
                          "interval, in [0, 1])")
-    ranges = {"salinity": (0.0, 0.35, "[0, 0.35)"), "saturation": (0.0, 1.0, "[0, 1]"),
-              "brie_exponent": (1.0, 40.0, "[1, 40]"), "gas_gravity": (0.5, 2.0, "[0.5, 2]"),
-              "oil_api": (0.0, 150.0, "[0, 150]"), "gas_oil_ratio": (0.0, 1e4, "[0, 1e4]"),
-              "top": (0.0, np.inf, ">= 0 m"), "base": (0.0, np.inf, ">= 0 m")}
-    for key, (lo, hi, text) in ranges.items():
+    for key, (lo, hi, text) in FLUID_RANGES.items():
         for value in sweep.get(f"fluid.{key}", [fluid[key]]):
             if value is not None and not (lo <= value <= hi and not (key == "salinity"
                                                                       and value >= hi)):
@@ -673,8 +714,8 @@ def _to_toml(raw: dict) -> str:
         if header or scal or not any(isinstance(v, dict) for v in d.values()):
             lines.extend(["", header or f"[{prefix}]", *scal])
         for k, v in d.items():
-            if isinstance(v, dict):
-                table(f"{prefix}.{k}", v)
+            if isinstance(v, dict):         # a dotted key ([uncertain."path.gradient"]) quoted
+                table(f"{prefix}.{json.dumps(k) if '.' in k else k}", v)
 
     for k, v in raw.items():
         if isinstance(v, dict):
@@ -759,8 +800,9 @@ def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False,
     progress : bool, keyword-only
         Show a progress bar over the sweep members.
     max_members : int, keyword-only
-        Most sweep members to run; default :data:`MAX_SWEEP_MEMBERS`. A larger sweep is refused
-        before any work (raise this to run it anyway).
+        Most sweep members to run (with ``[uncertain]``: sweep members times samples); default
+        :data:`MAX_SWEEP_MEMBERS`. A larger run is refused before any work (raise this to run
+        it anyway).
 
     Returns
     -------
@@ -784,6 +826,12 @@ def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False,
                 and value >= 1):
             raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
     members = sweep_size(scene)
+    if scene.uncertain and members * scene.uncertain["samples"] > max_members:
+        total = members * scene.uncertain["samples"]
+        raise ValueError(f"the scene has {total} members ({scene.uncertain['samples']} "
+                         f"uncertain samples x {members} sweep members), above max_members = "
+                         f"{max_members}; pass max_members={total} (rockcem run "
+                         f"--max-members {total}) to run it anyway")
     if members > max_members:
         shape = " x ".join(f"{len(v)} {k.rpartition('.')[2]}" for k, v in scene.sweep.items())
         raise ValueError(f"the sweep has {members} members ({shape}), above max_members = "

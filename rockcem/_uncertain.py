@@ -1,0 +1,859 @@
+"""Uncertain scene inputs: distributions in ``[uncertain]``, members sampled, quantiles out.
+
+A scene's ``[uncertain]`` section gives numeric scene keys (``"section.key"``, as ``[sweep]``
+names them) as probability distributions. :func:`validate_uncertain` checks it when the scene is
+loaded; :func:`sample_inputs` draws the members; :func:`evaluate_uncertain` runs them and
+returns one Dataset whose variables carry a ``quantile`` dimension (and, with
+``members = true``, every member as ``<name>_members`` along ``member``).
+
+The TOML (``docs/user_guide/scenes.md``, section "Uncertain inputs")::
+
+    [uncertain]
+    samples = 1000             # members
+    seed = 1                   # integer >= 0 (default 0)
+    design = "lhs"             # "lhs" (default), "sobol" (samples a power of two), "random"
+    quantiles = [0.1, 0.5, 0.9]
+    members = false            # true: keep every member
+    rank_correlations = [["path.gradient", "sandstone.grain_size", -0.3]]
+
+    [uncertain."path.gradient"]
+    distribution = "normal"    # normal: mean, sd; lognormal: median, sigma (sd of ln x);
+    mean = 30.0                # uniform: lower, upper; triangular: lower, mode, upper
+    sd = 2.0
+    truncate = false           # true: cut the distribution at the key's valid range
+
+Designs are those of :mod:`scipy.stats.qmc` (Latin hypercube, McKay et al. 1979; scrambled
+Sobol', Owen 1998) or independent uniform draws, mapped to each distribution by the inverse of
+its cumulative distribution function truncated to the key's valid range (Devroye 1986, ch. II.2,
+inversion). Rank correlations are imposed by the method of Iman & Conover (1982), which
+reorders each input's sampled values and so keeps its marginal sample (and a Latin hypercube's
+stratification) exactly.
+
+Members are evaluated in chunks (serially, or one chunk per dask task as sweep members are).
+Within a chunk the burial kinetics run member by member (they take one path each) and the
+petro-elastic models, which are pointwise in depth, run once on all the chunk's (member, depth)
+points; a scene whose pore fluid varies with depth or holds a hydrocarbon runs each member
+through the scene runner instead (:func:`rockcem.runner.evaluate`).
+
+References
+----------
+Devroye, L. (1986). *Non-Uniform Random Variate Generation*. Springer, ch. II.2.
+
+Hyndman, R. J. & Fan, Y. (1996). Sample quantiles in statistical packages. *The American
+Statistician* 50(4), 361-365.
+
+Iman, R. L. & Conover, W. J. (1982). A distribution-free approach to inducing rank correlation
+among input variables. *Communications in Statistics - Simulation and Computation* 11(3),
+311-334.
+
+McKay, M. D., Beckman, R. J. & Conover, W. J. (1979). A comparison of three methods for selecting
+values of input variables in the analysis of output from a computer code. *Technometrics*
+21(2), 239-245.
+
+Owen, A. B. (1998). Scrambling Sobol' and Niederreiter-Xing points. *Journal of Complexity*
+14(4), 466-489.
+
+Rao, C. R. (1973). *Linear Statistical Inference and its Applications*, 2nd ed. Wiley,
+sect. 6f.2.
+
+Walker, A. M. (1968). A note on the asymptotic distribution of sample quantiles. *Journal of the
+Royal Statistical Society B* 30(3), 570-575.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import json
+import re
+
+import numpy as np
+
+__all__ = ["DISTRIBUTIONS", "DESIGNS", "DEFAULT_QUANTILES", "MAX_OUTSIDE_MASS",
+           "MAX_UNCERTAIN_BYTES", "key_range", "validate_uncertain", "sample_inputs",
+           "evaluate_uncertain", "quantile_standard_error"]
+
+#: Distributions and their parameters.
+DISTRIBUTIONS = {"normal": ("mean", "sd"), "lognormal": ("median", "sigma"),
+                 "uniform": ("lower", "upper"), "triangular": ("lower", "mode", "upper")}
+#: Sampling designs (scipy.stats.qmc, or independent uniform draws).
+DESIGNS = ("lhs", "sobol", "random")
+#: Quantiles written when ``quantiles`` is not given.
+DEFAULT_QUANTILES = (0.1, 0.5, 0.9)
+#: Largest probability a distribution may put outside its key's valid range without
+#: ``truncate = true``; below it the distribution is truncated there without a word (the
+#: quantiles move by less than this in probability).
+MAX_OUTSIDE_MASS = 1e-6
+#: Most bytes the members' values may take in memory (every member of every variable is kept
+#: until the quantiles are taken); a larger run is refused before any work.
+MAX_UNCERTAIN_BYTES = 4 * 2 ** 30
+#: Members per chunk (one task on a dask worker; the models run on all its points at once).
+CHUNK_MEMBERS = 256
+#: Keys that cannot be uncertain, and why.
+_NOT_SAMPLED = {
+    "path.max_depth": "it sets the depth axis every member shares",
+    "path.depth_step": "it sets the depth axis every member shares",
+    "models.self_consistent.tol": "it is a numerical tolerance, not an input of the rock",
+}
+_TOP_KEYS = {"samples": "integer", "seed": "integer", "design": "string",
+             "quantiles": "numbers", "members": "boolean", "rank_correlations": "list"}
+
+
+def _scipy_rng_keyword(cls):
+    """The keyword a :mod:`scipy.stats.qmc` engine takes its generator by (``rng`` from SciPy
+    1.15, ``seed`` before)."""
+    return "rng" if "rng" in inspect.signature(cls).parameters else "seed"
+
+
+def key_range(dotted, sections):
+    """The valid range of an uncertain scene key: ``(low, high, low_open, high_open, unit)``.
+
+    The ranges are those the scene's own evaluation checks a fixed value against (the burial
+    functions and the models, whose constants are imported from there), narrowed where a
+    fixed key of the scene bounds another: the gradient by the path's largest temperature
+    (:data:`burial.path.MAX_TEMPERATURE_C` at ``max_depth``), the sedimentation rate by the age
+    of the Earth (:data:`burial.path.MAX_TIME_MYR`), the water density by the sediment's, a
+    sandstone's initial porosity and final IGV by each other, Model 4's contact cement limit
+    by the critical porosity.
+
+    Raises
+    ------
+    ValueError
+        For a key that cannot be sampled (MD keys, the depth axis, a numerical tolerance).
+    """
+    from burial.clay import MAX_ACTIVATION_ENERGY, MAX_ORDER
+    from burial.path import (MAX_SURFACE_TEMPERATURE_C, MAX_TEMPERATURE_C, MAX_TIME_MYR,
+                             MIN_TEMPERATURE_C)
+    from burial.quartz import MIN_GRAIN_SIZE_MM
+
+    from .scene import FLUID_RANGES, SCHEMA
+    from .validation import MAX_DENSITY
+
+    section, _, key = dotted.rpartition(".")
+    if section == "models.md":
+        raise ValueError(f"scene key uncertain.{dotted!r}: MD keys are not sampled (an MD "
+                         "member takes minutes: 10^3 members would take days); sweep a few "
+                         "values in [sweep] instead")
+    if dotted in _NOT_SAMPLED:
+        raise ValueError(f"scene key uncertain.{dotted!r} cannot be uncertain: "
+                         f"{_NOT_SAMPLED[dotted]}")
+    unit = SCHEMA[section][key][2]
+    inf = np.inf
+    path = sections.get("path", {})
+    if section == "path":
+        if key == "gradient":
+            top = (MAX_TEMPERATURE_C - path["surface_temperature"]) * 1000.0 / path["max_depth"]
+            return 0.0, top, True, False, unit
+        if key == "sedimentation_rate":
+            return path["max_depth"] / MAX_TIME_MYR, inf, False, True, unit
+        if key == "heating_rate":
+            return 0.0, inf, True, True, unit
+        if key == "surface_temperature":
+            return MIN_TEMPERATURE_C, MAX_SURFACE_TEMPERATURE_C, False, False, unit
+    if section == "pressure":
+        if key == "sediment_density":
+            return sections["pressure"]["water_density"], MAX_DENSITY, False, False, unit
+        return 0.0, sections["pressure"]["sediment_density"], True, False, unit
+    if section == "sandstone" and key in ("porosity0", "igv_final"):
+        # eq. B.7: the IGV falls from porosity0 towards igv_final (burial.intergranular_volume)
+        rock = sections["sandstone"]
+        return ((rock["igv_final"], 1.0, rock["igv_final"] == 0.0, True, unit)
+                if key == "porosity0" else (0.0, rock["porosity0"], False, False, unit))
+    if section in ("sandstone", "shale"):
+        table = {"porosity0": (0.0, 1.0, True, True), "quartz_fraction": (0.0, 1.0, False, False),
+                 "grain_size": (MIN_GRAIN_SIZE_MM, inf, False, True),
+                 "clay_coating": (0.0, 1.0, False, False), "igv_final": (0.0, 1.0, False, False),
+                 "beta": (0.0, inf, False, True),
+                 "start_temperature": (MIN_TEMPERATURE_C, MAX_TEMPERATURE_C, False, False),
+                 "r0": (0.0, 1.0, False, False), "order": (1.0, MAX_ORDER, False, False),
+                 "activation_energy": (0.0, MAX_ACTIVATION_ENERGY, True, False),
+                 "frequency_factor": (0.0, inf, True, True)}
+        return (*table[key], unit)
+    if section == "fluid":
+        low, high, _text = FLUID_RANGES[key]
+        return low, high, False, key in ("salinity", "top", "base"), unit
+    if section in ("models.hs_gassmann", "models.generalized_gassmann"):
+        from .frames import MAX_KRIEF_EXPONENT
+
+        return 0.0, MAX_KRIEF_EXPONENT, True, False, unit
+    if section == "models.self_consistent":
+        from .inclusions import MAX_ASPECT_RATIO, MIN_ASPECT_RATIO
+
+        return MIN_ASPECT_RATIO, MAX_ASPECT_RATIO, False, False, unit
+    if section == "models.patchy_cement":
+        from .granular import MAX_COORDINATION_NUMBER, MAX_PRESSURE_MPA
+
+        table = {"coordination_number": (0.0, MAX_COORDINATION_NUMBER, True, False),
+                 # at most the critical porosity (rockcem.models.patchy_cement_model)
+                 "contact_cement_limit": (0.0, sections["sandstone"]["porosity0"], True, False),
+                 "delta": (0.0, MAX_PRESSURE_MPA, False, False),
+                 "thickness": (0.0, inf, False, True), "f": (0.0, 1.0, False, False)}
+        return (*table[key], unit)
+    raise ValueError(f"scene key uncertain.{dotted!r} cannot be uncertain")  # not numeric
+
+
+def _range_text(rng):
+    low, high, low_open, high_open, unit = rng
+    text = f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+    return f"{text} {unit}".rstrip() if unit not in ("", "1") else text
+
+
+def _frozen(dist, params):
+    """The scipy.stats distribution of a validated entry."""
+    from scipy import stats
+
+    if dist == "normal":
+        return stats.norm(loc=params["mean"], scale=params["sd"])
+    if dist == "lognormal":
+        return stats.lognorm(s=params["sigma"], scale=params["median"])
+    if dist == "uniform":
+        return stats.uniform(loc=params["lower"], scale=params["upper"] - params["lower"])
+    width = params["upper"] - params["lower"]
+    return stats.triang(c=(params["mode"] - params["lower"]) / width, loc=params["lower"],
+                        scale=width)
+
+
+def _check_entry(dotted, entry, rng):
+    """One ``[uncertain."section.key"]`` table, checked: ``{"distribution", params...,
+    "truncate", "range", "cdf_range", "outside"}``."""
+    where = f"scene key uncertain.{json.dumps(dotted)}"
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where} must be a table: distribution = \"normal\", mean = ..., "
+                         "sd = ...")
+    dist = entry.get("distribution")
+    if dist not in DISTRIBUTIONS:
+        raise ValueError(f"{where}.distribution must be one of {', '.join(DISTRIBUTIONS)}; "
+                         f"got {dist!r}")
+    names = DISTRIBUTIONS[dist]
+    stray = [k for k in entry if k not in (*names, "distribution", "truncate")]
+    if stray:
+        raise ValueError(f"{where}: {stray[0]!r} is not a parameter of a {dist} distribution "
+                         f"(its parameters: {', '.join(names)}; and truncate)")
+    from .scene import _float, _is_number
+
+    params = {}
+    for name in names:
+        if name not in entry:
+            raise ValueError(f"{where}: a {dist} distribution needs {', '.join(names)}; "
+                             f"{name} is missing")
+        value = entry[name]
+        if not _is_number(value) or not np.isfinite(_float(value)):
+            raise ValueError(f"{where}.{name} must be a finite number; got {value!r}")
+        params[name] = _float(value)
+    for name in ("sd", "sigma", "median"):
+        if name in params and not params[name] > 0.0:
+            raise ValueError(f"{where}.{name} must be > 0; got {params[name]:g}")
+    if "lower" in params and not params["lower"] < params["upper"]:
+        raise ValueError(f"{where}: lower ({params['lower']:g}) must be below upper "
+                         f"({params['upper']:g})")
+    if "mode" in params and not params["lower"] <= params["mode"] <= params["upper"]:
+        raise ValueError(f"{where}.mode ({params['mode']:g}) must lie in [lower, upper] = "
+                         f"[{params['lower']:g}, {params['upper']:g}]")
+    truncate = entry.get("truncate", False)
+    if not isinstance(truncate, bool):
+        raise ValueError(f"{where}.truncate must be true or false; got {truncate!r}")
+    low, high, low_open, high_open, _unit = rng
+    if not low < high:
+        raise ValueError(f"{where}: the scene's fixed keys leave it no valid range "
+                         f"({_range_text(rng)})")
+    frozen = _frozen(dist, params)
+    cdf_low, cdf_high = float(frozen.cdf(low)), float(frozen.cdf(high))
+    outside = cdf_low + (1.0 - cdf_high)
+    text = f"{dist}({', '.join(f'{k} {v:g}' for k, v in params.items())})"
+    if not cdf_high - cdf_low > 0.0:
+        raise ValueError(f"{where}: {text} lies wholly outside the valid range "
+                         f"{_range_text(rng)} of {dotted}")
+    if outside > MAX_OUTSIDE_MASS and not truncate:
+        raise ValueError(f"{where}: {text} puts {outside:.3g} of its probability outside the "
+                         f"valid range {_range_text(rng)} of {dotted}; narrow it, or set "
+                         "truncate = true to truncate it to that range")
+    return {"distribution": dist, **params, "truncate": truncate, "range": list(rng[:4]),
+            "cdf_range": [cdf_low, cdf_high], "outside": outside}
+
+
+def _check_correlations(pairs, keys):
+    """``rank_correlations`` as a target rank-correlation matrix over ``keys`` (positive
+    definite), or None."""
+    if pairs is None or pairs == []:
+        return None
+    where = "scene key uncertain.rank_correlations"
+    if not isinstance(pairs, list):
+        raise ValueError(f"{where} must be a list of [\"section.key\", \"section.key\", rho]")
+    C = np.eye(len(keys))
+    seen = set()
+    for item in pairs:
+        if not (isinstance(item, list) and len(item) == 3 and all(isinstance(k, str)
+                                                                   for k in item[:2])
+                and isinstance(item[2], (int, float)) and not isinstance(item[2], bool)):
+            raise ValueError(f"{where}: each entry must be [\"section.key\", \"section.key\", "
+                             f"rho]; got {item!r}")
+        a, b, rho = item
+        for k in (a, b):
+            if k not in keys:
+                raise ValueError(f"{where}: {k!r} is not an uncertain key (uncertain: "
+                                 f"{', '.join(keys)})")
+        if a == b or frozenset((a, b)) in seen:
+            raise ValueError(f"{where}: the pair {a!r}, {b!r} is given twice or pairs a key "
+                             "with itself")
+        if not -1.0 < rho < 1.0:
+            raise ValueError(f"{where}: rank correlation of {a} and {b} must lie in (-1, 1); "
+                             f"got {rho:g}")
+        seen.add(frozenset((a, b)))
+        i, j = keys.index(a), keys.index(b)
+        C[i, j] = C[j, i] = float(rho)
+    if np.linalg.eigvalsh(C).min() <= 1e-10:
+        raise ValueError(f"{where}: the rank correlations given are not a valid correlation "
+                         "matrix (not positive definite); loosen them")
+    return C
+
+
+def validate_uncertain(raw, sections, sweep, *, models, lithology):
+    """Check a scene's ``[uncertain]`` section against its validated ``sections``.
+
+    Parameters
+    ----------
+    raw : dict
+        The parsed ``[uncertain]`` table.
+    sections : dict
+        The scene's sections (defaults filled in) without the uncertain keys' values.
+    sweep : dict
+        The scene's validated sweep (a key may not be both swept and uncertain).
+    models : tuple of str
+        The scene's models (a model's key is uncertain only if the model runs).
+    lithology : str
+
+    Returns
+    -------
+    dict
+        ``{"samples", "seed", "design", "quantiles", "members", "keys": {dotted: entry},
+        "correlation": matrix as nested lists or None}``.
+
+    Raises
+    ------
+    ValueError
+        Naming the key: unknown, not numeric, swept too, an MD key, bad parameters, a
+        distribution leaving the key's range without ``truncate = true``, a bad design or
+        sample count, bad quantiles or rank correlations.
+    """
+    from .scene import SCHEMA, _suggest
+
+    if not isinstance(raw, dict):
+        raise ValueError("scene section [uncertain] must be a table")
+    if "md" in models:
+        raise ValueError("scene section [uncertain] does not apply to a scene with [models.md]: "
+                         "an MD member takes minutes, 10^3 members days; sweep a few values "
+                         "in [sweep] instead")
+    keys = {k: v for k, v in raw.items() if isinstance(v, dict)}
+    top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
+    for k in top:
+        if k not in _TOP_KEYS:
+            valid = [f"{s}.{n}" for s in sections for n in sections[s]]
+            hint = _suggest(k, valid) if "." in k else _suggest(k, _TOP_KEYS)
+            raise ValueError(f"unknown scene key uncertain.{k}{hint}")
+    if not keys:
+        raise ValueError("scene section [uncertain] names no key: add a table such as "
+                         "[uncertain.\"path.gradient\"] distribution = \"normal\", mean = 30, "
+                         "sd = 2")
+    samples = top.get("samples")
+    if not (isinstance(samples, int) and not isinstance(samples, bool) and samples >= 2):
+        raise ValueError(f"scene key uncertain.samples must be an integer >= 2 (the members "
+                         f"to draw); got {samples!r}")
+    seed = top.get("seed", 0)
+    if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
+        raise ValueError(f"scene key uncertain.seed must be an integer >= 0; got {seed!r}")
+    design = top.get("design", "lhs")
+    if design not in DESIGNS:
+        raise ValueError(f"scene key uncertain.design must be one of {', '.join(DESIGNS)}; "
+                         f"got {design!r}")
+    if design == "sobol" and samples & (samples - 1):
+        low = 1 << (samples.bit_length() - 1)
+        raise ValueError(f"scene key uncertain.samples = {samples} with design = 'sobol': "
+                         "Sobol' points keep their balance only in powers of two; use "
+                         f"{low} or {2 * low}")
+    quantiles = top.get("quantiles", list(DEFAULT_QUANTILES))
+    if not (isinstance(quantiles, list) and quantiles
+            and all(isinstance(q, (int, float)) and not isinstance(q, bool) for q in quantiles)
+            and all(0.0 < q < 1.0 for q in quantiles)
+            and all(a < b for a, b in zip(quantiles, quantiles[1:]))):
+        raise ValueError(f"scene key uncertain.quantiles must be a list of increasing numbers "
+                         f"in (0, 1); got {quantiles!r}")
+    members = top.get("members", False)
+    if not isinstance(members, bool):
+        raise ValueError(f"scene key uncertain.members must be true or false; got {members!r}")
+    if members and sweep:
+        raise ValueError("scene key uncertain.members = true does not apply beside a [sweep] "
+                         "(each swept combination draws its own members); run the swept "
+                         "values as scenes of their own to keep their members")
+    out = {}
+    for dotted, entry in keys.items():
+        section, _, key = dotted.rpartition(".")
+        if "distribution" not in entry and entry and all(isinstance(v, dict)
+                                                         for v in entry.values()):
+            inner = next(iter(entry))
+            raise ValueError(f"scene section [uncertain.{dotted}.{inner}...]: quote the key, "
+                             f"[uncertain.\"{dotted}.{inner}\"] (a dotted key unquoted is a "
+                             "table in a table)")
+        if section == "models.md":
+            key_range(dotted, sections)                     # refuses MD keys by name
+        if section not in SCHEMA or key not in SCHEMA[section]:
+            valid = [f"{s}.{n}" for s in sections for n in sections[s]]
+            raise ValueError(f"unknown uncertain key {dotted!r}{_suggest(dotted, valid)}")
+        if section not in sections:
+            what = (f"model {section.removeprefix('models.')!r} is not in the scene's "
+                    "[models]" if section.startswith("models.") else
+                    f"section [{section}] does not apply to lithology {lithology!r}")
+            raise ValueError(f"uncertain key {dotted!r}: {what}")
+        if SCHEMA[section][key][1] != "number":
+            raise ValueError(f"uncertain key {dotted!r} is not a number (it is a "
+                             f"{SCHEMA[section][key][1]}): sweep its values in [sweep] instead")
+        if dotted in sweep:
+            raise ValueError(f"scene key {dotted} is both swept and uncertain; remove it from "
+                             "[sweep] or from [uncertain]")
+        out[dotted] = _check_entry(dotted, entry, key_range(dotted, sections))
+    names = list(out)
+    C = _check_correlations(top.get("rank_correlations"), names)
+    if C is not None and samples <= len(names) + 1:
+        raise ValueError(f"scene key uncertain.samples = {samples}: rank correlations between "
+                         f"{len(names)} inputs need more than {len(names) + 1} members")
+    return {"samples": samples, "seed": seed, "design": design,
+            "quantiles": [float(q) for q in quantiles], "members": members, "keys": out,
+            "correlation": None if C is None else C.tolist()}
+
+
+def nominal_value(entry):
+    """The median of an entry's (truncated) distribution: the value the scene's sections hold
+    for an uncertain key (its fixed-value checks run on it)."""
+    frozen = _frozen(entry["distribution"], entry)
+    lo, hi = entry["cdf_range"]
+    return _in_range(float(frozen.ppf(lo + 0.5 * (hi - lo))), entry["range"])
+
+
+def _in_range(x, rng):
+    """``x`` clipped into the closed or open range (rounding of the inverse CDF at its ends)."""
+    low, high, low_open, high_open = rng
+    lo = np.nextafter(low, np.inf) if low_open else low
+    hi = np.nextafter(high, -np.inf) if high_open else high
+    return np.clip(x, lo, hi)
+
+
+def _design(spec):
+    """``samples`` x ``len(keys)`` points in the unit hypercube, open at both ends."""
+    from scipy.stats import qmc
+
+    n, d = spec["samples"], len(spec["keys"])
+    rng = np.random.default_rng(spec["seed"])
+    if spec["design"] == "lhs":
+        engine = qmc.LatinHypercube
+        u = engine(d, **{_scipy_rng_keyword(engine): rng}).random(n)
+    elif spec["design"] == "sobol":
+        engine = qmc.Sobol
+        u = engine(d, scramble=True, **{_scipy_rng_keyword(engine): rng}).random_base2(
+            int(np.log2(n)))
+    else:
+        u = rng.random((n, d))
+    tiny = np.finfo(float).tiny
+    return np.clip(u, tiny, 1.0 - np.finfo(float).epsneg), rng
+
+
+def iman_conover(x, target, rng):
+    """Reorder the columns of ``x`` so that their rank correlation approaches ``target``.
+
+    The method of Iman & Conover (1982), eqs. 3-4: van der Waerden scores
+    :math:`\\Phi^{-1}(i/(n+1))`, independently permuted per column (``S``), are given the
+    target correlation exactly, :math:`T = S (P^{-1})^T Q^T` with :math:`P P^T` the
+    correlation of ``S`` and :math:`Q Q^T` the target (Cholesky factors); each column of
+    ``x`` is then reordered to the ranks of the matching column of ``T``. The marginal samples
+    are unchanged.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, d)
+    target : ndarray, shape (d, d)
+        Target rank correlation matrix, positive definite.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    ndarray, shape (n, d)
+    """
+    from scipy.stats import norm
+
+    n, d = x.shape
+    scores = norm.ppf(np.arange(1, n + 1) / (n + 1.0))
+    S = np.column_stack([rng.permutation(scores) for _ in range(d)])
+    P = np.linalg.cholesky(np.corrcoef(S, rowvar=False))
+    Q = np.linalg.cholesky(np.asarray(target, dtype=float))
+    T = S @ np.linalg.inv(P).T @ Q.T
+    out = np.empty_like(x)
+    for j in range(d):
+        ranks = np.argsort(np.argsort(T[:, j]))
+        out[:, j] = np.sort(x[:, j])[ranks]
+    return out
+
+
+def sample_inputs(spec):
+    """The members' values of the uncertain keys: ``{dotted: ndarray (samples,)}``.
+
+    Each key's design column :math:`u \\in (0, 1)` maps to
+    :math:`x = F^{-1}(F(a) + u\\,[F(b) - F(a)])`, the inverse CDF of its distribution truncated
+    to its valid range :math:`[a, b]` (inversion, Devroye 1986, ch. II.2); rank correlations,
+    if any, by :func:`iman_conover`.
+    """
+    u, rng = _design(spec)
+    cols = []
+    for j, entry in enumerate(spec["keys"].values()):
+        frozen = _frozen(entry["distribution"], entry)
+        lo, hi = entry["cdf_range"]
+        cols.append(_in_range(frozen.ppf(lo + u[:, j] * (hi - lo)), entry["range"]))
+    x = np.column_stack(cols)
+    if spec["correlation"] is not None:
+        x = iman_conover(x, spec["correlation"], rng)
+    return {k: x[:, j].copy() for j, k in enumerate(spec["keys"])}
+
+
+def quantile_standard_error(p, n, density):
+    """Asymptotic standard error of the sample ``p``-quantile of ``n`` independent draws.
+
+    .. math:: \\mathrm{SE}(\\hat x_p) = \\frac{\\sqrt{p (1 - p) / n}}{f(x_p)}
+
+    (Walker 1968, the asymptotic normality of a sample quantile; Rao 1973, sect. 6f.2), with
+    :math:`f(x_p)` the probability density at the true quantile. A Latin hypercube of a
+    monotone function of one input does far better (its error falls as :math:`1/n`).
+    """
+    p = np.asarray(p, dtype=float)
+    return np.sqrt(p * (1.0 - p) / n) / np.asarray(density, dtype=float)
+
+
+# ----------------------------------------------------------------------------- evaluation
+def member_names(scene):
+    """The member coordinate name of each uncertain key: the key (``grain_size``), or
+    ``<section>_<key>`` where two keys share it (``hs_gassmann_A``)."""
+    from .variables import sweep_dimension
+
+    keys = list(scene.uncertain["keys"])
+    short = [sweep_dimension(k) for k in keys]
+    taken = {sweep_dimension(k) for k in scene.sweep} | {"quantile", "member"}
+    return {k: (f"{k.rpartition('.')[0].rpartition('.')[2]}_{k.rpartition('.')[2]}"
+                if short.count(s) > 1 or s in taken else s) for k, s in zip(keys, short)}
+
+
+def _member_scene(scene, values):
+    """The scene of one member: the uncertain keys set to ``values`` (floats), no
+    ``[uncertain]`` (its sections are checked; the values lie in their keys' ranges)."""
+    sections = {name: dict(sec) for name, sec in scene.sections.items()}
+    for dotted, value in values.items():
+        section, _, key = dotted.rpartition(".")
+        sections[section][key] = float(value)
+    return dataclasses.replace(scene, sections=sections, uncertain={}, sweep={})
+
+
+def _describe(values, i):
+    return ", ".join(f"{k} = {v[i]:.6g}" for k, v in values.items())
+
+
+def _fast(scene):
+    """Whether the members' models can run as one array of (member, depth) points: the pore
+    fluid is one catalogue fluid (no [fluid] model that varies along depth, no hydrocarbon)."""
+    f = scene.sections["fluid"]
+    return f["model"] == "constant" and f["hydrocarbon"] == "none" and not scene.layers
+
+
+def evaluate_chunk(scene, values):
+    """Evaluate the members of one chunk.
+
+    Parameters
+    ----------
+    scene : Scene
+        A scene with ``[uncertain]`` and no sweep left.
+    values : dict
+        ``{dotted: ndarray (m,)}``, the chunk's members.
+
+    Returns
+    -------
+    data : dict
+        ``{name: (dims, ndarray (m, ...))}`` with dims ending in those of one member.
+    warnings : list of list of str
+        Each member's validity lines.
+    """
+    m = len(next(iter(values.values())))
+    if not _fast(scene):
+        return _evaluate_each(scene, values, m)
+    try:
+        return _evaluate_together(scene, values, m)
+    except ValueError:       # find the member it concerns and say so
+        return _evaluate_each(scene, values, m)
+
+
+def _evaluate_each(scene, values, m):
+    """Each member through the scene runner (one Dataset per member)."""
+    from .runner import evaluate
+
+    data, warnings = {}, []
+    for i in range(m):
+        member = _member_scene(scene, {k: v[i] for k, v in values.items()})
+        try:
+            ds = evaluate(member)
+        except ValueError as exc:
+            raise ValueError(f"uncertain member ({_describe(values, i)}): {exc}") from None
+        for name, var in ds.data_vars.items():
+            data.setdefault(name, (var.dims, []))[1].append(var.values)
+        warnings.append([w for w in ds.attrs.get("validity_warnings", "").split("\n") if w])
+    return {k: (dims, np.stack(v)) for k, (dims, v) in data.items()}, warnings
+
+
+def _evaluate_together(scene, values, m):
+    """The members' rock states one by one, their models once on all (member, depth) points."""
+    from burial import Pressures
+    from burial.compaction import SandstonePorosity
+
+    from .runner import _Pipeline
+    from .scene import MODEL_OUTPUTS
+    from .validity import validity_warnings
+
+    pipes = [_Pipeline(_member_scene(scene, {k: v[i] for k, v in values.items()}))
+             for i in range(m)]
+    state = [n for n in scene.outputs if n not in MODEL_OUTPUTS]
+    wanted = [n for n in scene.outputs if n in MODEL_OUTPUTS]
+    data = {name: (("depth",), np.stack([np.asarray(p.state_variable(name)) for p in pipes]))
+            for name in state}
+    n = np.shape(pipes[0].porosity)[-1]
+    sandstone = scene.lithology == "sandstone"
+    results = {}
+    if wanted:
+        flat_sections = {name: dict(sec) for name, sec in scene.sections.items()}
+        for dotted, v in values.items():          # one value per (member, depth) point
+            section, _, key = dotted.rpartition(".")
+            flat_sections[section][key] = np.repeat(np.asarray(v, dtype=float), n)
+        flat = _Pipeline(dataclasses.replace(scene, sections=flat_sections, uncertain={}))
+        cat = np.concatenate
+        flat.__dict__.update(
+            porosity=cat([p.porosity for p in pipes]),
+            solid_fractions=cat([p.solid_fractions for p in pipes]),
+            pressures=Pressures(*(cat([getattr(p.pressures, f) for p in pipes])
+                                  for f in Pressures._fields)),
+            pore_fluid=pipes[0].pore_fluid, materials=pipes[0].materials)
+        if sandstone:
+            flat.__dict__["sandstone"] = SandstonePorosity(
+                *(cat([getattr(p.sandstone, f) for p in pipes])
+                  for f in SandstonePorosity._fields))
+        results = {label: flat.model(label) for label in scene.models}
+        for name in wanted:
+            data[name] = (("model", "depth"), np.stack(
+                [getattr(results[label], name).reshape(m, n) for label in scene.models],
+                axis=1))
+    # Validity, member by member, on what the member computed (rockcem.runner
+    # _validity_warnings): Model 2's and 4's shear moduli sliced from the points.
+    shear = {}
+    if "self_consistent" in results:
+        r = results["self_consistent"]
+        shear["self_consistent"] = (r.G_sat.reshape(m, n), r.G_dry.reshape(m, n))
+    if "patchy_cement" in results:
+        shear["patchy_cement"] = (results["patchy_cement"].G_dry.reshape(m, n),
+                                  flat._model("patchy_cement", flat.pore_fluid.fluid,
+                                              delta=0.0).G_dry.reshape(m, n))
+    warnings = []
+    for i, p in enumerate(pipes):
+        lines = validity_warnings(
+            p.now(p.path.depth), p.porosity, porosity0=p.lith["porosity0"],
+            models=scene.models if wanted else (),
+            pore_filled=p.sandstone.pore_filled if sandstone else None,
+            shear_moduli={k: (a[i], b[i]) for k, (a, b) in shear.items()})
+        warnings.append(lines + p.pore_fluid.warnings)
+    return data, warnings
+
+
+def _merge_member_warnings(per_member, total):
+    """Each validity rule once, with the number of members it concerns; a member's depth
+    interval differs from another's, so the line shown is that of the first member it
+    concerns, named."""
+    groups = {}
+    for i, lines in enumerate(per_member):
+        for line in lines:
+            rule = re.sub(r" at [^:]*:", " at {where}:", line, count=1)
+            groups.setdefault(rule, []).append((i, line))
+    return [f"[{len(hits)} of {total} members; depths of member {hits[0][0]}] {hits[0][1]}"
+            for hits in groups.values()]
+
+
+def evaluate_uncertain(scene, *, scheduler=None, progress=False):
+    """Run the members of a scene with ``[uncertain]``: one Dataset of quantiles.
+
+    Every output variable gains a leading ``quantile`` dimension (the sample quantiles of the
+    members, ``numpy.quantile``'s default linear interpolation between order statistics,
+    Hyndman & Fan 1996 type 7); with ``members = true`` each is kept too, as
+    ``<name>_members`` along ``member``, with the sampled inputs as ``member`` coordinates.
+
+    Parameters
+    ----------
+    scene : Scene
+    scheduler : None, "local" or str, keyword-only
+        Where the chunks of members run (:func:`rockcem.scene.run_scene`).
+    progress : bool, keyword-only
+        A progress bar over the chunks.
+
+    Returns
+    -------
+    xarray.Dataset
+        The quantiles (and members) of every output, with the scene's attributes.
+
+    Raises
+    ------
+    ValueError
+        A member outside a model's range (naming its sampled inputs), or a run whose members
+        would take more than :data:`MAX_UNCERTAIN_BYTES` of memory.
+    """
+    import xarray as xr
+
+    from .runner import _global_attrs
+    from .variables import build_dataset, no_coordinate_fill
+
+    spec = scene.uncertain
+    values = sample_inputs(spec)
+    N = spec["samples"]
+    bounds = list(range(0, N, CHUNK_MEMBERS)) + [N]
+    chunks = [{k: v[a:b] for k, v in values.items()} for a, b in zip(bounds, bounds[1:])]
+    first = evaluate_chunk(scene, {k: v[:1] for k, v in values.items()})
+    per_member = sum(a.size for _dims, a in first[0].values())
+    if 8 * per_member * N > MAX_UNCERTAIN_BYTES:
+        raise ValueError(f"scene [uncertain]: {N} members of {per_member} values each take "
+                         f"{8 * per_member * N / 2 ** 30:.3g} GiB, above "
+                         f"{MAX_UNCERTAIN_BYTES / 2 ** 30:g} GiB; lower uncertain.samples, "
+                         "raise path.depth_step or ask fewer outputs")
+    # Every member's values go straight into one array per variable (no copy of them all).
+    data = {name: (dims, np.empty((N,) + a.shape[1:], dtype=a.dtype))
+            for name, (dims, a) in first[0].items()}
+    warnings = [None] * N
+
+    def put(index, part):
+        lo, hi = bounds[index], bounds[index + 1]
+        for name, (_dims, a) in part[0].items():
+            data[name][1][lo:hi] = a
+        warnings[lo:hi] = part[1]
+
+    if scheduler is None:
+        order = range(len(chunks))
+        if progress:
+            from tqdm.auto import tqdm
+
+            order = tqdm(order, desc=scene.name, unit="chunk")
+        for index in order:
+            put(index, evaluate_chunk(scene, chunks[index]))
+    else:
+        from ._scheduler import dask_client
+
+        with dask_client(scheduler, 2, what="running uncertain members on dask") as client:
+            from dask.distributed import as_completed
+
+            futures = client.map(evaluate_chunk, [scene] * len(chunks), chunks, pure=False)
+            where = {f.key: i for i, f in enumerate(futures)}
+            if progress:
+                from dask.distributed import progress as dask_progress
+
+                dask_progress(futures)
+            for future, part in as_completed(futures, with_results=True):
+                put(where[future.key], part)
+                future.release()
+    q = np.asarray(spec["quantiles"])
+    template = _template(scene)
+    out = {name: (("quantile",) + dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
+           for name, (dims, a) in data.items()}
+    names = member_names(scene)
+    if spec["members"]:
+        out.update({f"{name}_members": (("member",) + dims, a)
+                    for name, (dims, a) in data.items()})
+    coords = dict(template)
+    coords["quantile"] = (("quantile",), q)
+    if spec["members"]:
+        coords["member"] = (("member",), np.arange(N))
+        for dotted, name in names.items():
+            coords[name] = (("member",), values[dotted])
+    attrs = _global_attrs(scene)
+    attrs.update(_uncertain_attrs(scene, names))
+    lines = _merge_member_warnings(warnings, N)
+    if lines:
+        attrs["validity_warnings"] = "\n".join(lines)
+    ds = build_dataset({}, coords, attrs)
+    for name, (dims, a) in out.items():
+        base = name.removesuffix("_members")
+        ds[name] = xr.Variable(dims, a, attrs=_variable_attrs(base, name != base))
+    ds["quantile"].attrs.update(QUANTILE_ATTRS)
+    if spec["members"]:
+        ds["member"].attrs["long_name"] = "member of the uncertain inputs"
+        for dotted, name in names.items():
+            ds[name].attrs.update(_input_attrs(dotted))
+    if "model" in ds.coords:
+        from .runner import _MODEL_LABELS_LONG
+
+        ds["model"].attrs["description"] = "; ".join(
+            f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
+    return no_coordinate_fill(ds)
+
+
+#: Attributes of the quantile coordinate: what the numbers mean, and the industry's P-names.
+QUANTILE_ATTRS = {
+    "long_name": "quantile of the members",
+    "units": "1",
+    "description": (
+        "probability of non-exceedance: at quantile 0.1 a tenth of the members lie below the "
+        "value (the sample quantile of the members, numpy.quantile linear, Hyndman & Fan 1996 "
+        "type 7). The industry's P90 often means 90 % probability of exceedance, the low "
+        "case: that is quantile 0.1 here; its P10, the high case, is quantile 0.9"),
+}
+
+
+def _variable_attrs(name, members):
+    from .variables import variable_attrs
+
+    try:
+        attrs = dict(variable_attrs(name))
+    except ValueError:
+        attrs = {}
+    attrs.pop("flag_values", None)
+    attrs.pop("flag_meanings", None)
+    attrs["cell_methods"] = "member: point" if members else "member: quantile"
+    return attrs
+
+
+def _input_attrs(dotted):
+    from .scene import SCHEMA
+
+    section, _, key = dotted.rpartition(".")
+    _default, _kind, unit, doc = SCHEMA[section][key]
+    return {"long_name": f"sampled {dotted}: {doc}", "units": unit or "1"}
+
+
+def _template(scene):
+    """The depth (and horizon, model) coordinates every member shares."""
+    from .runner import _Pipeline
+    from .scene import MODEL_OUTPUTS
+
+    pipe = _Pipeline(_member_scene(scene, {k: nominal_value(e)
+                                           for k, e in scene.uncertain["keys"].items()}))
+    coords = {"depth": (("depth",), pipe.now(pipe.path.depth))}
+    if scene.sections["path"]["kind"] == "horizons":
+        coords["horizon"] = (("depth",), pipe.history.horizon.astype(object))
+    if any(n in MODEL_OUTPUTS for n in scene.outputs):
+        coords["model"] = (("model",), np.array(scene.models, dtype=object))
+    return coords
+
+
+def _uncertain_attrs(scene, names):
+    spec = scene.uncertain
+    design = {"lhs": "Latin hypercube (scipy.stats.qmc.LatinHypercube)",
+              "sobol": "scrambled Sobol' (scipy.stats.qmc.Sobol)",
+              "random": "independent uniform draws"}[spec["design"]]
+    keys = "; ".join(
+        f"{k} ({names[k]}): {e['distribution']}("
+        + ", ".join(f"{p} {e[p]:g}" for p in DISTRIBUTIONS[e["distribution"]])
+        + f") in {_range_text((*e['range'], ''))}"
+        + (f", truncated ({e['outside']:.3g} of its probability cut)" if e["outside"] > 0 else "")
+        for k, e in spec["keys"].items())
+    return {
+        "uncertain": (f"{spec['samples']} members, {design}, seed {spec['seed']}; the "
+                      "variables are quantiles of the members along 'quantile' (probability "
+                      "of non-exceedance: quantile 0.1 is the industry's P90, the low case, "
+                      f"when P means probability of exceedance); inputs: {keys}"
+                      + ("; rank correlations by Iman & Conover (1982)"
+                         if spec["correlation"] is not None else "")),
+        "uncertain_json": json.dumps({k: v for k, v in spec.items()}, sort_keys=True),
+    }
