@@ -47,6 +47,7 @@ import numpy as np
 from ._atomic import check_scene_name
 from ._data import data_path
 from ._stack_dataset import InterfaceProperties, interface_properties
+from .variables import MODEL_OUTPUTS
 from ._toml import toml_text, toml_value
 from .variables import sweep_dimension
 
@@ -269,8 +270,6 @@ CALIBRATED_MODELS = ("patchy_cement",)
 _TOP_SECTIONS = {"path", "pressure", "sandstone", "shale", "materials", "fluid", "models",
                  "sweep", "uncertain"}
 MODEL_LABELS = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement", "md")
-#: Variables that depend on the petro-elastic model (dimension ``model``).
-MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
 #: Variables of the pore fluid (a scene with a [fluid] section writes them by default).
 FLUID_OUTPUTS = ("fluid_density", "fluid_bulk_modulus", "fluid_velocity",
                  "hydrocarbon_saturation")
@@ -311,7 +310,7 @@ class Scene:
     #: A stack ([[layers]]; lithology "stack"): its layers, top to bottom
     #: (:class:`rockcem._scene_stack.StackLayer`); empty for a single-lithology scene.
     layers: tuple = ()
-    #: The checked ``[uncertain]`` section (:func:`rockcem._uncertain.validate_uncertain`);
+    #: The checked ``[uncertain]`` section (:func:`rockcem._uncertain_keys.validate_uncertain`);
     #: empty without one. ``sections`` hold each uncertain key's median.
     uncertain: dict = field(default_factory=dict)
 
@@ -530,7 +529,8 @@ def _uncertain(raw, sections, sweep, models, lithology, scene_cal, calibrations)
     given = {"path": dict(raw.get("path", {})), "fluid": dict(raw.get("fluid", {}))}
     if "uncertain" not in raw:
         return {}, given
-    from ._uncertain import nominal_value, validate_uncertain
+    from ._uncertain import nominal_value
+    from ._uncertain_keys import validate_uncertain
 
     spec = validate_uncertain(raw["uncertain"], sections, sweep, models=models,
                               lithology=lithology)

@@ -14,8 +14,12 @@ import numpy as np
 
 from ._data import read_toml
 
-__all__ = ["variable_attrs", "variable_names", "build_dataset", "no_coordinate_fill",
+__all__ = ["MODEL_OUTPUTS", "variable_attrs", "variable_names", "build_dataset", "no_coordinate_fill",
            "sweep_dimension", "md_error_trusted"]
+
+
+#: The variables a petro-elastic model gives (per model); the others are the rock state's.
+MODEL_OUTPUTS = ("K_dry", "G_dry", "K_sat", "G_sat", "vp", "vs")
 
 
 def variable_names() -> list[str]:

@@ -13,7 +13,7 @@ BASE = {"rockcem.validation", "rockcem.constants", "rockcem.variables", "rockcem
         "rockcem._atomic", "rockcem._toml"}
 SCENE_LAYER = {"rockcem.scene", "rockcem.runner", "rockcem.histories", "rockcem.wellfit",
                "rockcem.__main__", "rockcem._scene_stack", "rockcem._stack_dataset",
-               "rockcem._stack_seismic", "rockcem._uncertain",
+               "rockcem._stack_seismic", "rockcem._uncertain", "rockcem._uncertain_keys",
                "rockcem.cli", "rockcem.cli_wells", "rockcem._cli_files", "rockcem.plots"}
 
 
@@ -76,10 +76,12 @@ def test_lower_floors_do_not_import_the_scene_layer(module):
 
 
 #: Private modules split out of a scene-layer module for its length, which call back into it:
-#: one component for the cycle check (the stack's keys are the scene's, its Dataset and
-#: seismic join the runner's).
+#: one component for the cycle check (the stack's and the uncertain section's keys are the
+#: scene's; the stack's Dataset, its seismic join and the uncertain members' evaluation the
+#: runner's).
 PART_OF = {"rockcem._scene_stack": "rockcem.scene", "rockcem._stack_dataset": "rockcem.runner",
-           "rockcem._stack_seismic": "rockcem.runner"}
+           "rockcem._stack_seismic": "rockcem.runner", "rockcem._uncertain": "rockcem.runner",
+           "rockcem._uncertain_keys": "rockcem.scene"}
 
 
 def test_no_import_cycles_in_the_scene_layer():

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from rockcem._uncertain import (evaluate_chunk, iman_conover, key_range, member_names,
+from rockcem._uncertain import (evaluate_chunk, iman_conover, member_names,
                                 quantile_standard_error, sample_inputs)
+from rockcem._uncertain_keys import key_range
 from rockcem.runner import evaluate
 from rockcem.scene import load_scene, run_scene, scene_from_dict
 
