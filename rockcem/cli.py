@@ -74,9 +74,43 @@ def _stack_summary(ds) -> str:
     return "\n".join(lines)
 
 
+def _uncertain_summary(ds) -> list[str]:
+    """Lines of the run summary for a scene with uncertain inputs: the members, and the
+    quantiles of the porosity, density and each model's vp and vs at the deepest depth."""
+    import json
+
+    spec = json.loads(ds.attrs["uncertain_json"])
+    q = [float(v) for v in ds["quantile"].values]
+    lines = [f"uncertain: {spec['samples']} members ({spec['design']}, seed {spec['seed']}) of "
+             + ", ".join(spec["keys"]) + "; quantiles " + ", ".join(f"{v:g}" for v in q)
+             + " of the members (quantile 0.1 is the industry's P90, the low case)"]
+    deep = ds.isel(depth=-1)
+    z = float(ds.depth[-1])
+    for name in ("porosity", "density"):
+        if name in ds:
+            values = " / ".join(f"{float(v):.4g}" for v in deep[name].values)
+            lines.append(f"  {name} at {z:g} m: {values}")
+    if "vp" in ds and "model" in ds.dims:
+        for m in ds.model.values:
+            v = deep.sel(model=m)
+            text = " / ".join(f"{float(x):.3f}" for x in v.vp.values)
+            if "vs" in ds:
+                text += ", vs " + " / ".join(f"{float(x):.3f}" for x in v.vs.values)
+            lines.append(f"  {m}: vp {text} km/s at {z:g} m")
+    return lines
+
+
 def _summary(ds) -> str:
     if ds.attrs.get("lithology") == "stack":
         return _stack_summary(ds)
+    if "uncertain_json" in ds.attrs and "quantile" in ds.dims and \
+            not [d for d in ds.dims if d not in ("depth", "model", "quantile", "member")]:
+        lines = [f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
+                 f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-"
+                 f"{float(ds.depth[-1]):g} m", *_uncertain_summary(ds)]
+        for line in filter(None, ds.attrs.get("validity_warnings", "").split("\n")):
+            lines.append(f"warning: {line}")
+        return "\n".join(lines)
     lines = [(f"scene {ds.attrs.get('scene_name', '?')} ({ds.attrs.get('lithology', '?')}): "
               f"{ds.sizes['depth']} depths, {float(ds.depth[0]):g}-{float(ds.depth[-1]):g} m")]
     extra = [d for d in ds.dims if d not in ("depth", "model")]

@@ -406,3 +406,19 @@ def test_horizon_histories_together_equal_one_by_one():
         warnings.simplefilter("ignore")
         ds = evaluate(s)
     assert "horizon" in ds.coords and ds["vp"].dims == ("quantile", "model", "depth")
+
+
+def test_run_summary_of_uncertain_members():
+    """The summary names the members and inputs and prints each quantile of vp at the
+    deepest depth as the Dataset holds it (not the quantile axis as a sweep)."""
+    from rockcem.cli import _summary
+
+    scene = load_scene("carcione2022_sandstone_uncertain").replace(
+        **{"uncertain.samples": 8, "path.depth_step": 500.0})
+    ds = run_scene(scene)
+    text = _summary(ds)
+    assert "sweep:" not in text
+    assert text.splitlines()[1].startswith("uncertain: 8 members (lhs, seed 2022) of path.gradient")
+    vp = ds["vp"].sel(model="patchy_cement").isel(depth=-1).values
+    want = " / ".join(f"{float(x):.3f}" for x in vp)
+    assert f"patchy_cement: vp {want}" in text
