@@ -223,8 +223,8 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     sections = {"path": first.sections["path"], "pressure": first.sections["pressure"],
                 "fluid": fluid, "stack": stack}
     if "seismic" in raw:                # reflectivity, AVO and synthetics only when asked
-        sections["seismic"] = _check_seismic(_section("seismic", raw["seismic"],
-                                                      SCHEMA["seismic"]), specs)
+        seismic = _section("seismic", raw["seismic"], SCHEMA["seismic"])
+        sections["seismic"] = _check_seismic(raw["seismic"], seismic, specs, base_dir)
     return Scene(head["name"], "stack", outputs, head["output"] or f"{head['name']}.nc",
                  models, sections, {}, text if text is not None else _to_toml(raw),
                  head["description"], None if base_dir is None else str(base_dir), {},
@@ -331,8 +331,9 @@ def _referenced(source, base_dir, where):
     return ref, path.parent
 
 
-def _check_seismic(seismic, specs):
-    """The ``[seismic]`` keys in their ranges; the threshold's default filled in."""
+def _check_seismic(given, seismic, specs, base_dir):
+    """The ``[seismic]`` keys in their ranges; the threshold's default filled in; a user's
+    wavelet read (its samples replace the file name: ``wavelet_time``, ``wavelet_amplitude``)."""
     from .reflectivity import AVO_THRESHOLD
 
     checks = (("max_angle", 0.0, 90.0, "in (0, 90) degrees"),
@@ -352,10 +353,46 @@ def _check_seismic(seismic, specs):
     elif not 0.0 < seismic["class_threshold"] < 1.0:
         _fail("scene key seismic.class_threshold must lie in (0, 1); got "
               f"{seismic['class_threshold']:g}")
+    if seismic["wavelet"] is not None:
+        if "frequency" in given:
+            _fail("scene keys seismic.wavelet and seismic.frequency: give one (the frequency "
+                  "is that of the Ricker wavelet a user's wavelet replaces)")
+        seismic.update(_read_wavelet(seismic["wavelet"], seismic["dt"], base_dir))
     if seismic["gather_depth"] is not None and specs[0]["thickness"] is None:
         _fail("scene key seismic.gather_depth needs the synthetic column: give every layer "
               "but the last a thickness")
     return seismic
+
+
+def _read_wavelet(name, dt, base_dir):
+    """``seismic.wavelet``: a CSV file of two columns, time (s) and amplitude, ``#`` comments
+    and one header line allowed, sampled at ``dt`` with one sample at time 0."""
+    where = f"scene key seismic.wavelet = {name!r}"
+    path = Path(name) if base_dir is None else Path(base_dir) / name
+    if not path.is_file():
+        _fail(f"{where}: no such file{'' if base_dir is None else f' (beside the scene: {path})'}")
+    try:
+        with open(path, encoding="utf-8-sig") as fh:
+            rows = [line for line in fh if line.strip() and not line.lstrip().startswith("#")]
+        try:
+            float(rows[0].split(",")[0])
+        except ValueError:
+            rows = rows[1:]                     # a header line
+        data = np.array([[float(v) for v in row.split(",")] for row in rows], dtype=float)
+    except (ValueError, IndexError, UnicodeDecodeError) as exc:
+        _fail(f"{where}: not a CSV file of two numeric columns, time (s) and amplitude ({exc})")
+    if data.ndim != 2 or data.shape[1] != 2 or data.shape[0] < 3:
+        _fail(f"{where}: needs two columns, time (s) and amplitude, and at least 3 rows")
+    if not np.all(np.isfinite(data)):
+        _fail(f"{where}: holds a value that is not a finite number")
+    t, a = data[:, 0], data[:, 1]
+    if not np.allclose(np.diff(t), dt, rtol=1e-6, atol=0.0):
+        _fail(f"{where}: its times must be sampled at seismic.dt = {dt:g} s")
+    if np.count_nonzero(np.abs(t) <= 1e-6 * dt) != 1:
+        _fail(f"{where}: its times must have one sample at time 0 (the reflection's time)")
+    if not np.any(a != 0):
+        _fail(f"{where}: its amplitudes are all zero")
+    return {"wavelet_time": t.tolist(), "wavelet_amplitude": a.tolist()}
 
 
 def _check_thickness(specs, path):

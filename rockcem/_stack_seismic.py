@@ -124,7 +124,13 @@ def _add_synthetics(ds, seismic, angles):
     vs = ds["column_vs"].transpose("fluid", "model", "depth").values
     rho = ds["column_density"].transpose("fluid", "model", "depth").values
     good = np.all(np.isfinite(vp) & np.isfinite(vs) & np.isfinite(rho), axis=-1)
-    dt, f = seismic["dt"], seismic["frequency"]
+    dt = seismic["dt"]
+    if seismic["wavelet"] is not None:          # the user's, read when the scene was loaded
+        f = (np.asarray(seismic["wavelet_time"]), np.asarray(seismic["wavelet_amplitude"]))
+        what = f"the wavelet of {seismic['wavelet']}"
+    else:
+        f = seismic["frequency"]
+        what = f"Ricker {f:g} Hz"
     twt = np.full(vp.shape, np.nan)
     twt[good] = depth_to_twt(depth, vp[good])
     ds["twt_of_depth"] = xr.Variable(("fluid", "model", "depth"), twt, {
@@ -137,8 +143,8 @@ def _add_synthetics(ds, seismic, angles):
     trace[good] = s.trace
     ds.coords["twt"] = ("twt", s.twt, {"units": "s", "long_name": "two-way time"})
     ds["synthetic"] = xr.Variable(("fluid", "model", "twt"), trace, {
-        "units": "1", "long_name": f"normal-incidence synthetic of the column, Ricker "
-        f"{f:g} Hz (convolutional model: primaries, no transmission losses)",
+        "units": "1", "long_name": f"normal-incidence synthetic of the column, {what} "
+        "(convolutional model: primaries, no transmission losses)",
         "references": "Ricker (1953); Yilmaz (2001), sect. 2.1"})
     at = seismic["gather_depth"]
     if at is None:
@@ -151,7 +157,7 @@ def _add_synthetics(ds, seismic, angles):
                                                      "long_name": "two-way time of the gather"})
     ds["angle_gather"] = xr.Variable(("fluid", "model", "angle", "gather_twt"), gather, {
         "units": "1", "long_name": f"angle gather of the column around {at:g} m (exact PP "
-        f"coefficient at each angle, Ricker {f:g} Hz, no moveout)", "gather_depth": at})
+        f"coefficient at each angle, {what}, no moveout)", "gather_depth": at})
 
 
 def _layer_tops(ds):

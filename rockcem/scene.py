@@ -168,6 +168,9 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                             "rockcem.reflectivity.AVO_THRESHOLD, 0.03)"),
         "frequency": (25.0, "number", "Hz", "a stack: peak frequency of the Ricker wavelet of "
                       "the synthetics, > 0"),
+        "wavelet": (None, "string", "", "a stack: a CSV file of the user's wavelet for the "
+                    "synthetics instead of the Ricker (two columns, time in s and amplitude, "
+                    "sampled at dt with a sample at time 0; relative to the scene file)"),
         "dt": (0.002, "number", "s", "a stack: sample interval of the synthetics, in "
                "[1e-5, 0.05]"),
         "gather_depth": (None, "number", "m", "a stack with thicknesses: depth of the column's "

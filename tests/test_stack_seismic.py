@@ -331,3 +331,46 @@ def test_md_gives_the_reservoir_side_at_its_depths(tmp_path):
                               depth=2500.0)) == pytest.approx(vp_md, rel=1e-12)
     assert float(sides) == pytest.approx((z2 - z1) / (z2 + z1), abs=1e-12)
     assert np.isnan(ds["reflectivity_pp"].sel(model="md", depth=1000.0)).all()
+
+
+def _ricker_csv(path, f, dt, header=True):
+    """A Ricker wavelet written out by hand: (1 - 2 (pi f t)^2) exp(-(pi f t)^2) (Ricker 1953)."""
+    n = int(round(6.0 / (np.pi * f) / dt))
+    t = np.arange(-n, n + 1) * dt
+    a = (1 - 2 * (np.pi * f * t) ** 2) * np.exp(-(np.pi * f * t) ** 2)
+    lines = (["time (s),amplitude"] if header else []) + [f"{float(x)!r},{float(y)!r}" for x, y in zip(t, a)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_a_users_wavelet_from_a_file(tmp_path, ds):
+    """A Ricker of 20 Hz given as the user's wavelet (a file) gives the synthetic that the
+    built-in 20 Hz Ricker gives."""
+    _ricker_csv(tmp_path / "w.csv", 20.0, 0.002)
+    raw = _raw({"max_angle": 30.0, "angle_step": 5.0, "dt": 0.002, "wavelet": "w.csv"})
+    user = run_scene(scene_from_dict(raw, base_dir=tmp_path))
+    np.testing.assert_allclose(user["synthetic"].values, ds["synthetic"].values, rtol=0,
+                               atol=1e-9 * float(np.abs(ds["synthetic"]).max()))
+    assert "the wavelet of w.csv" in user["synthetic"].attrs["long_name"]
+
+
+@pytest.mark.parametrize("content, match", [
+    (None, "no such file"),
+    ("time,amplitude\n0,1\n0.002,0.5\n", "at least 3 rows"),
+    ("-0.004,0\n-0.001,1\n0.002,0\n", "sampled at seismic.dt = 0.002 s"),
+    ("0.001,0\n0.003,1\n0.005,0\n", "one sample at time 0"),
+    ("-0.002,0\n0,x\n0.002,0\n", "not a CSV file of two numeric columns"),
+    ("-0.002,0\n0,0\n0.002,0\n", "all zero"),
+])
+def test_a_bad_wavelet_file_is_refused_by_name(tmp_path, content, match):
+    if content is not None:
+        (tmp_path / "w.csv").write_text(content)
+    raw = _raw({"dt": 0.002, "wavelet": "w.csv"})
+    with pytest.raises(ValueError, match=rf"seismic.wavelet = 'w.csv'.*{match}"):
+        scene_from_dict(raw, base_dir=tmp_path)
+
+
+def test_wavelet_and_frequency_together_refused(tmp_path):
+    _ricker_csv(tmp_path / "w.csv", 20.0, 0.002)
+    with pytest.raises(ValueError, match="seismic.wavelet and seismic.frequency: give one"):
+        scene_from_dict(_raw({"wavelet": "w.csv", "frequency": 20.0}), base_dir=tmp_path)
