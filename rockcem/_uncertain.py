@@ -14,6 +14,7 @@ The TOML (``docs/user_guide/scenes.md``, section "Uncertain inputs")::
     design = "lhs"             # "lhs" (default), "sobol" (samples a power of two), "random"
     quantiles = [0.1, 0.5, 0.9]
     members = false            # true: keep every member
+    sensitivity = false        # true: Sobol' indices, samples the base N (_sobol_members)
     rank_correlations = [["path.gradient", "sandstone.grain_size", -0.3]]
 
     [uncertain."path.gradient"]
@@ -46,6 +47,9 @@ Iman, R. L. & Conover, W. J. (1982). A distribution-free approach to inducing ra
 among input variables. *Communications in Statistics - Simulation and Computation* 11(3),
 311-334.
 
+Jansen, M. J. W. (1999). Analysis of variance designs for model output. *Computer Physics
+Communications* 117(1-2), 35-43.
+
 McKay, M. D., Beckman, R. J. & Conover, W. J. (1979). A comparison of three methods for selecting
 values of input variables in the analysis of output from a computer code. *Technometrics*
 21(2), 239-245.
@@ -55,6 +59,10 @@ Owen, A. B. (1998). Scrambling Sobol' and Niederreiter-Xing points. *Journal of 
 
 Rao, C. R. (1973). *Linear Statistical Inference and its Applications*, 2nd ed. Wiley,
 sect. 6f.2.
+
+Saltelli, A., Annoni, P., Azzini, I., Campolongo, F., Ratto, M. & Tarantola, S. (2010). Variance
+based sensitivity analysis of model output. Design and estimator for the total sensitivity
+index. *Computer Physics Communications* 181(2), 259-270.
 
 Walker, A. M. (1968). A note on the asymptotic distribution of sample quantiles. *Journal of the
 Royal Statistical Society B* 30(3), 570-575.
@@ -373,48 +381,113 @@ def _merge_member_warnings(per_member, total):
             for hits in groups.values()]
 
 
-def evaluate_uncertain(scene, *, scheduler=None, progress=False):
-    """Run the members of a scene with ``[uncertain]``: one Dataset of quantiles.
+#: Outputs given Sobol' indices with ``sensitivity = true`` (those of the scene's outputs).
+SOBOL_OUTPUTS = ("temperature", "porosity", "density", "vp", "vs")
+#: An output whose standard deviation among the members is below this fraction of its mean
+#: magnitude does not vary: its indices are undefined and written as NaN.
+SOBOL_MIN_RELATIVE_SD = 1e-12
 
-    Every output variable gains a leading ``quantile`` dimension (the sample quantiles of the
-    members, ``numpy.quantile``'s default linear interpolation between order statistics,
-    Hyndman & Fan 1996 type 7); with ``members = true`` each is kept too, as
-    ``<name>_members`` along ``member``, with the sampled inputs as ``member`` coordinates.
 
-    Parameters
-    ----------
-    scene : Scene
-    scheduler : None, "local" or str, keyword-only
-        Where the chunks of members run (:func:`rockcem.scene.run_scene`).
-    progress : bool, keyword-only
-        A progress bar over the chunks.
+class _TruncatedInverse:
+    """The inverse CDF of an entry's distribution truncated to its key's valid range, the map
+    :func:`sample_inputs` uses (Devroye 1986, ch. II.2): the ``dists`` item
+    :func:`scipy.stats.sobol_indices` draws its design through."""
+
+    def __init__(self, entry):
+        self.frozen = _frozen(entry["distribution"], entry)
+        self.lo, self.hi = entry["cdf_range"]
+        self.range = entry["range"]
+
+    def ppf(self, u):
+        u = np.clip(u, np.finfo(float).tiny, 1.0 - np.finfo(float).epsneg)
+        return _in_range(self.frozen.ppf(self.lo + u * (self.hi - self.lo)), self.range)
+
+
+def _sobol_members(scene, scheduler, progress):
+    """The members of the Saltelli design and the Sobol' indices of :data:`SOBOL_OUTPUTS`.
+
+    :func:`scipy.stats.sobol_indices` draws two independent matrices A and B of ``samples``
+    = N members each (the halves of one scrambled Sobol' sequence in 2d dimensions, mapped
+    through :class:`_TruncatedInverse`) and the d matrices A_B^(i) (A with its i-th input
+    taken from B): N (d + 2) members in all, run by :func:`_run_members`. The first-order
+    index is Saltelli et al. (2010)'s estimator (their Table 2 (b)),
+    :math:`S_i = \\frac{1}{N} \\sum_j f(B)_j [f(A_B^{(i)})_j - f(A)_j] / V`, and the total
+    index Jansen (1999)'s (Saltelli et al. 2010, Table 2 (f)),
+    :math:`S_{Ti} = \\frac{1}{2N} \\sum_j [f(A)_j - f(A_B^{(i)})_j]^2 / V`, with V the variance
+    of the 2N members of A and B.
 
     Returns
     -------
-    xarray.Dataset
-        The quantiles (and members) of every output, with the scene's attributes.
-
-    Raises
-    ------
-    ValueError
-        A member outside a model's range (naming its sampled inputs), or a run whose members
-        would take more than :data:`MAX_UNCERTAIN_BYTES` of memory.
+    values : dict
+        ``{dotted: ndarray (2N,)}``, the inputs of the members of A and B.
+    data, warnings
+        Those members' outputs and validity lines, as :func:`_run_members` gives them.
+    sobol : dict
+        ``{name: (dims, first, total)}``, ``first`` and ``total`` of shape ``(d, ...)`` over
+        the output's dims: NaN where the output does not vary among the members of A and B
+        (relative standard deviation below :data:`SOBOL_MIN_RELATIVE_SD`).
     """
-    import xarray as xr
-
-    from .runner import _global_attrs
-    from .variables import build_dataset, no_coordinate_fill
+    from scipy.stats import sobol_indices
 
     spec = scene.uncertain
-    values = sample_inputs(spec)
-    N = spec["samples"]
+    keys = list(spec["keys"])
+    d, N = len(keys), spec["samples"]
+    runs = []
+
+    def func(x):                        # x: (d, n) inputs; (s, n) outputs
+        values = {k: np.asarray(x[j], dtype=float) for j, k in enumerate(keys)}
+        data, warnings = _run_members(scene, values, scheduler, progress, planned=N * (d + 2))
+        runs.append((values, data, warnings))
+        n = x.shape[1]
+        return np.concatenate([np.asarray(data[name][1], dtype=float).reshape(n, -1)
+                               for name in names], axis=1).T
+
+    names = [n for n in SOBOL_OUTPUTS if n in scene.outputs]
+    if not names:
+        raise ValueError("scene key uncertain.sensitivity = true needs one of the outputs "
+                         f"{', '.join(SOBOL_OUTPUTS)} in [output]")
+    # the generator's keyword: rng from SciPy 1.15, random_state before
+    keyword = "rng" if "rng" in inspect.signature(sobol_indices).parameters else "random_state"
+    result = sobol_indices(func=func, n=N,
+                           dists=[_TruncatedInverse(e) for e in spec["keys"].values()],
+                           **{keyword: np.random.default_rng(spec["seed"])})
+    (va, da, wa), (vb, db, wb) = runs[0], runs[1]
+    values = {k: np.concatenate([va[k], vb[k]]) for k in keys}
+    data = {name: (dims, np.concatenate([a, db[name][1]])) for name, (dims, a) in da.items()}
+    first = np.reshape(result.first_order, (-1, d))
+    total = np.reshape(result.total_order, (-1, d))
+    sobol, at = {}, 0
+    for name in names:
+        dims, a = data[name]
+        shape = a.shape[1:]
+        size = int(np.prod(shape))
+        flat = np.asarray(a, dtype=float).reshape(2 * N, size)
+        still = flat.std(axis=0) <= SOBOL_MIN_RELATIVE_SD * np.abs(flat.mean(axis=0))
+        parts = []
+        for block in (first, total):
+            part = block[at:at + size].copy()
+            part[still] = np.nan
+            parts.append(np.moveaxis(part, -1, 0).reshape((d,) + shape))
+        sobol[name] = (dims, *parts)
+        at += size
+    return values, data, wa + wb, sobol
+
+
+def _run_members(scene, values, scheduler, progress, planned=None):
+    """Evaluate the members ``values`` (``{dotted: ndarray (N,)}``) in chunks of
+    :data:`CHUNK_MEMBERS`, serially or on dask: ``({name: (dims, ndarray (N, ...))}``, each
+    member's validity lines). A run whose ``planned`` members (default N) would take more
+    than :data:`MAX_UNCERTAIN_BYTES` is refused after one member."""
+    N = len(next(iter(values.values())))
+    planned = N if planned is None else planned
     bounds = list(range(0, N, CHUNK_MEMBERS)) + [N]
     chunks = [{k: v[a:b] for k, v in values.items()} for a, b in zip(bounds, bounds[1:])]
     first = evaluate_chunk(scene, {k: v[:1] for k, v in values.items()})
     per_member = sum(a.size for _dims, a in first[0].values())
-    if 8 * per_member * N > MAX_UNCERTAIN_BYTES:
-        raise ValueError(f"scene [uncertain]: {N} members of {per_member} values each take "
-                         f"{8 * per_member * N / 2 ** 30:.3g} GiB, above "
+    if 8 * per_member * planned > MAX_UNCERTAIN_BYTES:
+        raise ValueError(f"scene [uncertain]: {planned} members of {per_member} values each "
+                         f"take "
+                         f"{8 * per_member * planned / 2 ** 30:.3g} GiB, above "
                          f"{MAX_UNCERTAIN_BYTES / 2 ** 30:g} GiB; lower uncertain.samples, "
                          "raise path.depth_step or ask fewer outputs")
     # Every member's values go straight into one array per variable (no copy of them all).
@@ -451,6 +524,53 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
             for future, part in as_completed(futures, with_results=True):
                 put(where[future.key], part)
                 future.release()
+    return data, warnings
+
+
+def evaluate_uncertain(scene, *, scheduler=None, progress=False):
+    """Run the members of a scene with ``[uncertain]``: one Dataset of quantiles.
+
+    Every output variable gains a leading ``quantile`` dimension (the sample quantiles of the
+    members, ``numpy.quantile``'s default linear interpolation between order statistics,
+    Hyndman & Fan 1996 type 7); with ``members = true`` each is kept too, as
+    ``<name>_members`` along ``member``, with the sampled inputs as ``member`` coordinates.
+    With ``sensitivity = true`` the members are those of the Saltelli design
+    (:func:`_sobol_members`, N (d + 2) of them), the quantiles those of its 2N members A and
+    B, and the Sobol' indices of :data:`SOBOL_OUTPUTS` are added as ``<name>_sobol_first``
+    and ``<name>_sobol_total`` along ``input``.
+
+    Parameters
+    ----------
+    scene : Scene
+    scheduler : None, "local" or str, keyword-only
+        Where the chunks of members run (:func:`rockcem.scene.run_scene`).
+    progress : bool, keyword-only
+        A progress bar over the chunks.
+
+    Returns
+    -------
+    xarray.Dataset
+        The quantiles (and members) of every output, with the scene's attributes.
+
+    Raises
+    ------
+    ValueError
+        A member outside a model's range (naming its sampled inputs), or a run whose members
+        would take more than :data:`MAX_UNCERTAIN_BYTES` of memory.
+    """
+    import xarray as xr
+
+    from .runner import _global_attrs
+    from .variables import build_dataset, no_coordinate_fill
+
+    spec = scene.uncertain
+    sobol = None
+    if spec.get("sensitivity"):
+        values, data, warnings, sobol = _sobol_members(scene, scheduler, progress)
+    else:
+        values = sample_inputs(spec)
+        data, warnings = _run_members(scene, values, scheduler, progress)
+    N = len(warnings)
     q = np.asarray(spec["quantiles"])
     template = _template(scene)
     out = {name: (("quantile",) + dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
@@ -475,6 +595,8 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
         base = name.removesuffix("_members")
         ds[name] = xr.Variable(dims, a, attrs=_variable_attrs(base, name != base))
     ds["quantile"].attrs.update(QUANTILE_ATTRS)
+    if sobol is not None:
+        _add_sobol(ds, scene, sobol)
     if spec["members"]:
         ds["member"].attrs["long_name"] = "member of the uncertain inputs"
         for dotted, name in names.items():
@@ -485,6 +607,27 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
         ds["model"].attrs["description"] = "; ".join(
             f"{m}: {_MODEL_LABELS_LONG[m]}" for m in scene.models)
     return no_coordinate_fill(ds)
+
+
+def _add_sobol(ds, scene, sobol):
+    """``<name>_sobol_first`` and ``<name>_sobol_total`` along ``input`` (the dotted keys)."""
+    import xarray as xr
+
+    spec = scene.uncertain
+    d, N = len(spec["keys"]), spec["samples"]
+    ds.coords["input"] = ("input", np.array(list(spec["keys"]), dtype=object))
+    ds["input"].attrs["long_name"] = "uncertain input (scene key)"
+    note = (f"{N * (d + 2)} members: the Saltelli design of base N = {N} (A, B and the {d} "
+            "matrices A_B^(i), scipy.stats.sobol_indices); NaN where the output does not vary "
+            "among the members")
+    for name, (dims, first, total) in sobol.items():
+        for kind, a, what, source in (
+                ("first", first, "first-order", "Saltelli et al. (2010), Table 2 (b)"),
+                ("total", total, "total", "Jansen (1999); Saltelli et al. (2010), Table 2 (f)")):
+            ds[f"{name}_sobol_{kind}"] = xr.Variable(("input",) + dims, a, attrs={
+                "long_name": f"{what} Sobol' index of {name}",
+                "units": "1",
+                "description": f"estimator of {source}; {note}"})
 
 
 #: Attributes of the quantile coordinate: what the numbers mean, and the industry's P-names.
@@ -545,7 +688,11 @@ def _uncertain_attrs(scene, names):
         + (f", truncated ({e['outside']:.3g} of its probability cut)" if e["outside"] > 0 else "")
         for k, e in spec["keys"].items())
     return {
-        "uncertain": (f"{spec['samples']} members, {design}, seed {spec['seed']}; the "
+        "uncertain": ((f"{spec['samples']} members, {design}, seed {spec['seed']}; the "
+                       if not spec.get("sensitivity") else
+                       f"{2 * spec['samples']} members (A and B of the Saltelli design of "
+                       f"base N = {spec['samples']}, scrambled Sobol' points), seed "
+                       f"{spec['seed']}; the ") +
                       "variables are quantiles of the members along 'quantile' (probability "
                       "of non-exceedance: quantile 0.1 is the industry's P90, the low case, "
                       f"when P means probability of exceedance); inputs: {keys}"

@@ -26,7 +26,8 @@ _NOT_SAMPLED = {
 
 
 _TOP_KEYS = {"samples": "integer", "seed": "integer", "design": "string",
-             "quantiles": "numbers", "members": "boolean", "rank_correlations": "list"}
+             "quantiles": "numbers", "members": "boolean", "rank_correlations": "list",
+             "sensitivity": "boolean"}
 
 
 def key_range(dotted, sections):
@@ -287,6 +288,7 @@ def validate_uncertain(raw, sections, sweep, *, models, lithology):
         raise ValueError("scene key uncertain.members = true does not apply beside a [sweep] "
                          "(each swept combination draws its own members); run the swept "
                          "values as scenes of their own to keep their members")
+    sensitivity = _check_sensitivity(top, samples, members, sweep)
     out = {}
     for dotted, entry in keys.items():
         section, _, key = dotted.rpartition(".")
@@ -321,4 +323,36 @@ def validate_uncertain(raw, sections, sweep, *, models, lithology):
                          f"{len(names)} inputs need more than {len(names) + 1} members")
     return {"samples": samples, "seed": seed, "design": design,
             "quantiles": [float(q) for q in quantiles], "members": members, "keys": out,
-            "correlation": None if C is None else C.tolist()}
+            "correlation": None if C is None else C.tolist(), "sensitivity": sensitivity}
+
+
+def _check_sensitivity(top, samples, members, sweep):
+    """``sensitivity = true`` checked against the section's other keys: ``samples`` the base
+    N of the Saltelli design (a power of two), no rank correlations (Sobol' indices assume
+    independent inputs), no ``design`` other than Sobol', no kept members, no sweep."""
+    sensitivity = top.get("sensitivity", False)
+    where = "scene key uncertain.sensitivity"
+    if not isinstance(sensitivity, bool):
+        raise ValueError(f"{where} must be true or false; got {sensitivity!r}")
+    if not sensitivity:
+        return False
+    if samples & (samples - 1):
+        low = 1 << (samples.bit_length() - 1)
+        raise ValueError(f"scene key uncertain.samples = {samples} with sensitivity = true: "
+                         "the base N of the Saltelli design must be a power of two (Sobol' "
+                         f"points keep their balance only then); use {low} or {2 * low}")
+    if top.get("rank_correlations") not in (None, []):
+        raise ValueError(f"{where} = true does not apply with uncertain.rank_correlations: "
+                         "Sobol' indices assume independent inputs; remove the correlations "
+                         "(or the sensitivity)")
+    if top.get("design", "sobol") != "sobol":
+        raise ValueError(f"{where} = true draws its own design (Saltelli's, on scrambled "
+                         f"Sobol' points); uncertain.design = {top['design']!r} does not apply: "
+                         "remove it")
+    if members:
+        raise ValueError(f"{where} = true does not apply with uncertain.members = true (the "
+                         "members are those of the Saltelli design); remove one of them")
+    if sweep:
+        raise ValueError(f"{where} = true does not apply beside a [sweep]; run the swept "
+                         "values as scenes of their own")
+    return True
