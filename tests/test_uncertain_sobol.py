@@ -121,3 +121,17 @@ def test_no_output_with_indices_is_refused():
     raw["outputs"] = ["burial_time"]
     with pytest.raises(ValueError, match="sensitivity = true needs one of the outputs"):
         run_scene(scene_from_dict(raw))
+
+
+def test_design_goes_through_the_truncated_distribution():
+    # a gradient normal(30, 20) truncated at 0 (its valid range is (0, top]): the inverse
+    # CDF the Saltelli design maps through is scipy's truncnorm
+    from scipy.stats import truncnorm
+
+    s = scene(**{"path.gradient": {"distribution": "normal", "mean": 30.0, "sd": 20.0,
+                                   "truncate": True}})
+    entry = s.uncertain["keys"]["path.gradient"]
+    low, top = entry["range"][:2]
+    u = np.linspace(0.01, 0.99, 25)
+    expected = truncnorm.ppf(u, (low - 30.0) / 20.0, (top - 30.0) / 20.0, loc=30.0, scale=20.0)
+    np.testing.assert_allclose(uncertain._TruncatedInverse(entry).ppf(u), expected, rtol=1e-10)
