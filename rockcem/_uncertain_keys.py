@@ -321,7 +321,7 @@ def validate_uncertain(raw, sections, sweep, *, models, lithology):
     if C is not None and samples <= len(names) + 1:
         raise ValueError(f"scene key uncertain.samples = {samples}: rank correlations between "
                          f"{len(names)} inputs need more than {len(names) + 1} members")
-    return {"samples": samples, "seed": seed, "design": design,
+    return {"samples": samples, "seed": seed, "design": "sobol" if sensitivity else design,
             "quantiles": [float(q) for q in quantiles], "members": members, "keys": out,
             "correlation": None if C is None else C.tolist(), "sensitivity": sensitivity}
 

@@ -3,6 +3,7 @@ rockcem._uncertain): against the closed form of an additive output, the invarian
 input an output does not depend on, and the section's refusals."""
 
 import copy
+import json
 import warnings
 
 import numpy as np
@@ -95,6 +96,7 @@ def test_quantiles_come_from_the_two_independent_halves(ds):
     # 2N members of A and B: the median temperature at 3 km near 15 + 30 * 3
     assert ds.temperature.sel(quantile=0.5, depth=3000.0) == pytest.approx(105.0, abs=1.0)
     assert ds.attrs["uncertain"].startswith("512 members")
+    assert json.loads(ds.attrs["uncertain_json"])["design"] == "sobol"
     assert list(ds.input.values) == ["path.gradient", "path.surface_temperature",
                                      "sandstone.grain_size"]
 
