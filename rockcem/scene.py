@@ -829,12 +829,19 @@ def run_scene(scene: Scene, *, scheduler=None, jobs=1, progress=False,
                 and value >= 1):
             raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
     members = sweep_size(scene)
-    if scene.uncertain and members * scene.uncertain["samples"] > max_members:
-        total = members * scene.uncertain["samples"]
-        raise ValueError(f"the scene has {total} members ({scene.uncertain['samples']} "
-                         f"uncertain samples x {members} sweep members), above max_members = "
-                         f"{max_members}; pass max_members={total} (rockcem run "
-                         f"--max-members {total}) to run it anyway")
+    if scene.uncertain:
+        n = scene.uncertain["samples"]
+        # Sobol' indices run N (d + 2) members: the two base designs and one per input.
+        per = n * (len(scene.uncertain["keys"]) + 2) if scene.uncertain.get("sensitivity") \
+            else n
+        total = members * per
+        if total > max_members:
+            what = (f"{n} x ({len(scene.uncertain['keys'])} inputs + 2) for the Sobol' indices"
+                    if per != n else f"{n} uncertain samples")
+            raise ValueError(f"the scene has {total} members ({what} x {members} sweep "
+                             f"members), above max_members = {max_members}; pass "
+                             f"max_members={total} (rockcem run --max-members {total}) to run "
+                             "it anyway")
     if members > max_members:
         shape = " x ".join(f"{len(v)} {k.rpartition('.')[2]}" for k, v in scene.sweep.items())
         raise ValueError(f"the sweep has {members} members ({shape}), above max_members = "

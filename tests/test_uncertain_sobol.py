@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import rockcem._uncertain as uncertain
-from rockcem.scene import run_scene, scene_from_dict
+from rockcem.scene import load_scene, run_scene, scene_from_dict
 
 GRADIENT_SD, SURFACE_SD = 3.0, 2.0          # degC/km, degC
 #: Largest error of an index at N = 256 over 20 seeds (0..19) and 7 depths: 0.028 (first
@@ -147,3 +147,14 @@ def test_design_goes_through_the_truncated_distribution():
     u = np.linspace(0.01, 0.99, 25)
     expected = truncnorm.ppf(u, (low - 30.0) / 20.0, (top - 30.0) / 20.0, loc=30.0, scale=20.0)
     np.testing.assert_allclose(uncertain._TruncatedInverse(entry).ppf(u), expected, rtol=1e-10)
+
+
+def test_max_members_counts_the_sobol_design():
+    """With sensitivity the run is N (d + 2) members: 16 x (3 + 2) = 80 is over a limit of 64
+    that N alone (16) is under."""
+    scene = load_scene("carcione2022_sandstone_uncertain").replace(
+        **{"uncertain.samples": 16, "uncertain.sensitivity": True, "uncertain.design": "sobol"})
+    d = len(scene.uncertain["keys"])
+    with pytest.raises(ValueError, match=rf"has {16 * (d + 2)} members \(16 x \({d} inputs "
+                                         r"\+ 2\) for the Sobol' indices"):
+        run_scene(scene, max_members=64)
