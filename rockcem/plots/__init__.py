@@ -21,10 +21,12 @@ from .avo import (avo_class_depth, intercept_gradient_crossplot, reflectivity_an
                   synthetic_section)
 from .depth import depth_trends
 from .md_study import md_study_velocity, velocity_error
+from .sensitivity import sobol_tornado
 from .templates import rock_physics_template, velocity_porosity
 from .wells import fit_figure, well_overlay, well_template
 
 __all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_trends", "figure_path",
            "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
-           "reflectivity_angle", "rock_physics_template", "save_figure", "synthetic_section",
+           "reflectivity_angle", "rock_physics_template", "save_figure", "sobol_tornado",
+           "synthetic_section",
            "velocity_error", "velocity_porosity", "well_overlay", "well_template"]
