@@ -45,6 +45,18 @@ def sobol_tornado(ds, variable="vp", depths=(2000.0, 3000.0, 4000.0), *, model=N
     ValueError
         The Dataset has no indices of ``variable``, ``model`` is missing or unknown, or
         ``depths`` is empty.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = xr.Dataset({"vp_sobol_total": (("input", "depth"), [[0.7], [0.2]]),
+    ...                  "vp_sobol_first": (("input", "depth"), [[0.6], [0.1]])},
+    ...                 coords={"input": ["path.gradient", "sandstone.grain_size"],
+    ...                         "depth": [3000.0]})
+    >>> fig = sobol_tornado(ds, "vp", depths=[3000.0])
+    >>> [t.get_text() for t in fig.axes[0].get_yticklabels()]   # largest total on top
+    ['sandstone.grain_size', 'path.gradient']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     first_name, total_name = f"{variable}_sobol_first", f"{variable}_sobol_total"
     if first_name not in ds or total_name not in ds:
