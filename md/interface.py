@@ -184,6 +184,25 @@ def film_thickness(owner, volume, radii) -> np.ndarray:
                        r.size) / (4.0 * np.pi * r**2)
 
 
+def pair_index(table, query, n) -> np.ndarray:
+    """Row of each unordered grain pair of ``query`` in ``table`` (both int arrays of shape
+    (m, 2), grain indices below ``n``; the order within a pair does not matter), −1 where
+    ``table`` lacks it; of repeated rows of ``table``, the first."""
+    table = np.sort(np.asarray(table, dtype=np.int64).reshape(-1, 2), axis=1)
+    query = np.sort(np.asarray(query, dtype=np.int64).reshape(-1, 2), axis=1)
+    out = np.full(query.shape[0], -1, np.int64)
+    if table.shape[0] == 0 or query.shape[0] == 0:
+        return out
+    keys = table[:, 0] * n + table[:, 1]
+    order = np.argsort(keys, kind="stable")
+    keys = keys[order]
+    want = query[:, 0] * n + query[:, 1]
+    pos = np.minimum(np.searchsorted(keys, want), keys.size - 1)
+    hit = (query[:, 0] >= 0) & (keys[pos] == want)
+    out[hit] = order[pos[hit]]
+    return out
+
+
 def film_bridges(positions, radii, box, thickness, material, cement, hertz_pairs=None,
                  hertz_radius=None, covered_pairs=None, covered_area=None):
     r"""Bonds of the cement bridges that two grains' films make where they meet.
@@ -266,24 +285,16 @@ def film_bridges(positions, radii, box, thickness, material, cement, hertz_pairs
     h0 = dist - ri - rj
     T = t[p[:, 0]] + t[p[:, 1]]
     n = x.shape[0]
-    key = p[:, 0] * n + p[:, 1]
     a_h = np.zeros(p.shape[0])
     if hertz_pairs is not None and len(hertz_pairs):
-        hp = np.sort(np.asarray(hertz_pairs, dtype=np.int64), axis=1)
-        hk = hp[:, 0] * n + hp[:, 1]
-        pos = np.searchsorted(np.sort(hk), key)
-        srt = np.argsort(hk)
-        found = (pos < hk.size) & (np.sort(hk)[np.minimum(pos, hk.size - 1)] == key)
-        a_h[found] = np.asarray(hertz_radius, dtype=float)[srt][pos[found]]
+        at = pair_index(hertz_pairs, p, n)
+        found = at >= 0
+        a_h[found] = np.asarray(hertz_radius, dtype=float)[at[found]]
     covered = np.zeros(p.shape[0])
     if covered_pairs is not None and len(covered_pairs):
-        cp = np.sort(np.asarray(covered_pairs, dtype=np.int64), axis=1)
-        ck = cp[:, 0] * n + cp[:, 1]
-        srt = np.argsort(key)
-        pos = np.searchsorted(key[srt], ck)
-        hit = pos < key.size
-        hit[hit] = key[srt][pos[hit]] == ck[hit]
-        np.add.at(covered, srt[pos[hit]], np.asarray(covered_area, dtype=float)[hit])
+        at = pair_index(p, covered_pairs, n)
+        hit = at >= 0
+        np.add.at(covered, at[hit], np.asarray(covered_area, dtype=float)[hit])
     keep = (T > h0) & (T > 0)
     p, d, dist, h0, T, a_h, ri, rj, covered = (
         v[keep] for v in (p, d, dist, h0, T, a_h, ri, rj, covered))
@@ -413,15 +424,10 @@ def _facet_contact_radius(label, n_patches, patch_grain, bond_partner, pairs, ra
     """Radius of the contact between each facet's grain and the grain it faces (0 if none)."""
     partner = np.full(n_patches, -1, np.int64)
     partner[label] = np.asarray(bond_partner, dtype=np.int64)
-    pairs = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
-    keys = pairs[:, 0] * n_grains + pairs[:, 1]
-    order = np.argsort(keys)
-    keys, radius = keys[order], np.asarray(radius, dtype=float)[order]
-    lo, hi = np.minimum(patch_grain, partner), np.maximum(patch_grain, partner)
-    want = lo * n_grains + hi
-    pos = np.minimum(np.searchsorted(keys, want), keys.size - 1)
-    hit = (partner >= 0) & (keys[pos] == want)
-    return np.where(hit, radius[pos], 0.0)
+    at = pair_index(pairs, np.stack([np.asarray(patch_grain, np.int64), partner], axis=1),
+                    n_grains)
+    hit = (partner >= 0) & (at >= 0)
+    return np.where(hit, np.asarray(radius, dtype=float)[np.maximum(at, 0)], 0.0)
 
 
 def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first, cell_width,

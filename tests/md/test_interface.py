@@ -367,3 +367,20 @@ def test_grain_cement_bond_carries_the_column_shear():
     assert f[1, 0] == pytest.approx(-kt * gamma * h, rel=1e-12)
     assert np.all(f[1, 3:] == 0.0)
     assert f[0, 4] == pytest.approx((Rg + h) * kt * gamma * h, rel=1e-12)
+
+
+def test_pair_index_matches_a_brute_force_search():
+    """md.interface.pair_index: the row of each unordered pair in the table, -1 where absent,
+    the first of repeated rows, against a loop over the table."""
+    from md.interface import pair_index
+
+    rng = np.random.default_rng(3)
+    n = 12
+    table = rng.integers(0, n, size=(40, 2))
+    query = np.concatenate([rng.integers(0, n, size=(60, 2)), table[::-1][:10, ::-1]])
+    got = pair_index(table, query, n)
+    for q, g in zip(query, got):
+        rows = [k for k, t in enumerate(table) if sorted(t) == sorted(q)]
+        assert g == (rows[0] if rows else -1)
+    assert pair_index(table[:0], query, n).tolist() == [-1] * len(query)
+    assert pair_index(table, [[-1, 3]], n).tolist() == [-1]
