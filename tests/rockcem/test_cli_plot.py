@@ -186,7 +186,8 @@ def test_plot_uncertain_default_is_the_band_figure(tmp_path, drawn, capsys):
 
 
 @pytest.mark.parametrize("members, sobol, args, message", [
-    (False, False, ["--kind", "template"], "members = true in [uncertain]"),
+    (False, False, ["--kind", "template"],
+     "keeps the quantiles only: run the scene with members = true in [uncertain]"),
     (False, False, ["--kind", "sensitivity"], "sensitivity = true in [uncertain]"),
     (False, False, ["--kind", "vp-porosity"], "--kind band draws them"),
     (False, False, ["--variable", "vs"], "--variable chooses the output of --kind sensitivity"),
