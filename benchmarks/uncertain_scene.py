@@ -101,7 +101,8 @@ def main(argv=None):
     shipped_s = rows[0]["wall_s"]
     note = fig.legends[-1].get_title()         # depth_bands' note below the panels
     note.set_text(f"{SCENE}: {rows[0]['members']} members (Latin hypercube), "
-                  f"{shipped_s:.1f} s on one core. " + note.get_text())
+                  f"{shipped_s:.1f} s on one core (rockcem run: the first run in its "
+                  "process).\n" + note.get_text())
     save(fig, _common.ROOT / "docs" / f"{SCENE}.png", prov)
     print(f"wrote docs/{SCENE}.png and benchmarks/results/{NAME}.csv "
           f"({example._stamp(prov)})")

@@ -249,7 +249,7 @@ def depth_bands(ds, variables=None, *, fig=None):
                    ncols=min(len(handles), 4 if len(variables) > 2 else 2))
         fig.legend(handles=[], loc="outside lower center", title=(
             "Quantiles of each variable taken separately at each depth and model (a band's "
-            "edge is not one member); quantile 0.1 is the industry's P90 (the low case)"),
+            "edge is not one member);\nquantile 0.1 is the industry's P90 (the low case)"),
             title_fontsize=7.5)
     return fig
 
