@@ -19,8 +19,8 @@ from ._style import (_INK, _RC, _check_dataset, _figure, _label, _model_label,
 
 __all__ = ["depth_bands", "member_template"]
 
-#: Derived panels of :func:`depth_bands`, from the members: name -> (numerator, denominator)
-#: of the product or ratio (:math:`I = \\rho V_P`, :math:`V_P/V_S`).
+#: Derived panels of :func:`depth_bands`, from the members: name -> the two variables and
+#: whether the panel is their product (impedance, density times Vp) or ratio (Vp/Vs).
 _DERIVED_PANELS = {"acoustic_impedance": ("density", "vp", "product"),
                    "vp_vs": ("vp", "vs", "ratio")}
 #: Default depths (m) of the member clouds and of ``rockcem plot --kind sensitivity`` (issue 32,
