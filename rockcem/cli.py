@@ -673,8 +673,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "band", "sensitivity",
                                       "avo", "synthetic", "md-study"],
                    default=None,
-                   help="depth trends (the default for a scene's file), velocity-porosity, the "
-                        "rock-physics template; of a scene with [uncertain], band (quantile "
+                   help="depth trends (the default for a scene's file without [uncertain]), "
+                        "velocity-porosity, the rock-physics template; of a scene with "
+                        "[uncertain], band (quantile "
                         "bands along depth per model, the median as a line; the default), "
                         "sensitivity (the tornado of Sobol' indices of --variable at --depth, "
                         "one row per model; needs sensitivity = true) or template (the members' "
@@ -703,7 +704,8 @@ def _parser() -> argparse.ArgumentParser:
                         "for every trace of a row, so amplitudes compare)")
     p.add_argument("--select", action="append", metavar="KEY=VALUE",
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
-                        "path.gradient=30; repeat for more values or dimensions)")
+                        "path.gradient=30; repeat for more values or dimensions), or of "
+                        "model or quantile (quantile=0.5: the medians as depth trends)")
     p.add_argument("-o", "--output", help="figure file (.png, .pdf, .svg)")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing (with --well: the read report's warnings only)")
