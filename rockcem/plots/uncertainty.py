@@ -260,7 +260,8 @@ def member_template(ds, depths=None, *, fig=None, **template):
     template of :func:`~rockcem.plots.rock_physics_template`.
 
     Each cloud is one model's members at one depth (``gid`` ``"members:<model>:<depth>"``, one
-    point per member), in the model's marker and coloured by depth; the template's lines are
+    point per member), in the model's marker and the depth's colour (one colour per depth, from
+    the depth colour map of the template); the template's lines are
     those :func:`~rockcem.plots.rock_physics_template` draws for the Dataset (its grain, cement,
     fluid, critical porosity, median effective pressure and Model 4 parameters). The members'
     impedance is :math:`\\rho V_P` of each member's own density and velocity.
@@ -283,7 +284,8 @@ def member_template(ds, depths=None, *, fig=None, **template):
     Returns
     -------
     matplotlib.figure.Figure
-        The template axes with the clouds and a depth colour bar.
+        The template axes with the clouds; the legend names the models' markers and the
+        depths' colours.
 
     Raises
     ------
@@ -349,21 +351,26 @@ def member_template(ds, depths=None, *, fig=None, **template):
     ys = np.concatenate([y for _, y in points.values()] or [np.zeros(0)])
     with plt.rc_context(_RC):
         fig, ax = _template_figure(ds, fig=fig, **template)
-        norm = plt.Normalize(float(z.min()), float(z.max()))
+        # One colour per depth, spread over the depth colour map (shallow light, deep dark),
+        # so that two clouds a kilometre apart stand apart.
         cmap = plt.get_cmap("viridis_r")
+        colour = {d: cmap(0.15 + 0.75 * k / max(len(at) - 1, 1)) for k, d in enumerate(at)}
         handles = []
         for i, model in enumerate(models):
             marker = _model_marker(model, i)
             grow = _model_size(i, len(models))
             for d in at:
                 x, y = points[model, d]
-                ax.scatter(x, y, color=cmap(norm(d)), marker=marker, s=7 * grow, alpha=0.45,
+                ax.scatter(x, y, color=colour[d], marker=marker, s=7 * grow, alpha=0.45,
                            linewidths=0.0, zorder=2 + 0.01 * i,
                            gid=f"members:{model if model is not None else 'data'}:{d:g}")
             handles.append(Line2D([], [], linestyle="none", marker=marker,
                                   markersize=4.5 * np.sqrt(grow), markerfacecolor="0.6",
                                   markeredgecolor="none",
                                   label=_model_label(model) if model is not None else "members"))
+        handles += [Line2D([], [], linestyle="none", marker="o", markersize=6.0,
+                           markerfacecolor=colour[d], markeredgecolor="none", label=f"{d:g} m")
+                    for d in at]
         if xs.size:
             x0, x1 = ax.get_xlim()
             y0, y1 = ax.get_ylim()
@@ -371,13 +378,7 @@ def member_template(ds, depths=None, *, fig=None, **template):
             y0, y1 = min(y0, ys.min()), max(y1, ys.max())
             ax.set_xlim(x0 - 0.03 * (x1 - x0), x1 + 0.03 * (x1 - x0))
             ax.set_ylim(y0 - 0.03 * (y1 - y0), y1 + 0.03 * (y1 - y0))
-        n = ds.sizes["member"]
-        fig.legend(handles=handles, loc="outside upper center", ncols=2,
-                   title=f"{n} members at " + ", ".join(f"{d:g}" for d in at) + " m "
-                         "(colour: depth)", title_fontsize=7.5)
-        bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, pad=0.02)
-        bar.set_label(_label("depth"))
-        bar.ax.invert_yaxis()
-        for d in at:
-            bar.ax.axhline(d, color="k", linewidth=1.2)
+        fig.legend(handles=handles, loc="outside right upper",
+                   title=f"{ds.sizes['member']} members\n(marker: model;\ncolour: depth)",
+                   title_fontsize=7.5, alignment="left")
     return fig

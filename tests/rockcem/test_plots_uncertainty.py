@@ -186,6 +186,11 @@ def test_member_clouds_one_point_per_member_at_each_depth():
         np.testing.assert_allclose(points, expected, rtol=1e-12)
     x0, x1 = ax.get_xlim()
     assert x0 < 4.0 and x1 > 8.5                            # every member inside the axes
+    colours = {gid: tuple(c.get_facecolor()[0][:3]) for c in ax.collections
+               if str(gid := c.get_gid()).startswith("members:")}
+    assert len(set(colours.values())) == 2                  # one colour per depth
+    legend = [t.get_text() for lg in fig.legends for t in lg.get_texts()]
+    assert "1000 m" in legend and "2000 m" in legend
     plt.close(fig)
 
 
