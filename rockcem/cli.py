@@ -321,9 +321,14 @@ def _plot(args) -> int:
         ds = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
         raise ValueError(f"{args.file} is not a readable netCDF file: {exc}") from None
+    asked = args.kind
     args.kind = _plot_kind(ds, args, path)
-    if args.depth and args.kind != "avo":
-        raise ValueError("--depth chooses the depths of the reflectivity chart of --kind avo")
+    if args.depth and args.kind not in ("avo", "sensitivity", "template"):
+        raise ValueError("--depth chooses the depths of the reflectivity chart of --kind avo, "
+                         "of the tornado of --kind sensitivity and of the member clouds of "
+                         "--kind template")
+    if args.variable is not None and args.kind != "sensitivity":
+        raise ValueError("--variable chooses the output of --kind sensitivity")
     if (args.twt or args.trace_scale) and args.kind != "synthetic":
         raise ValueError(f"--{'twt' if args.twt else 'trace-scale'} applies to --kind "
                          "synthetic")
@@ -345,6 +350,13 @@ def _plot(args) -> int:
         return plot_with_well(ds, args, path)
     if args.kind in ("avo", "synthetic"):
         return _plot_seismic(ds, args, path)
+    if asked is None and args.kind == "band" and "quantile" not in ds.dims:
+        args.kind = "depth"                 # --select quantile=...: that quantile's trends
+    if args.kind in ("band", "sensitivity") or "quantile" in ds.dims:
+        return _plot_uncertain(ds, args, path)
+    if args.depth:
+        raise ValueError(f"--depth chooses the depths of the member clouds of --kind template; "
+                         f"{path.name} has no members (a scene with [uncertain] members = true)")
     draw = {"depth": plots.depth_trends, "vp-porosity": plots.velocity_porosity,
             "template": plots.rock_physics_template}[args.kind]
     out = output_file(args.output, _default_figure(path, args), figure=True)
@@ -352,6 +364,73 @@ def _plot(args) -> int:
     if not args.quiet:
         print(f"wrote {saved}")
     return 0
+
+
+def _plot_uncertain(ds, args, path) -> int:
+    """The figures of a scene with ``[uncertain]``: ``band`` (quantile bands along depth, per
+    model; ``depth`` is the same figure), ``sensitivity`` (the tornado of the Sobol' indices of
+    ``--variable`` at ``--depth``, one row per model), ``template`` (the members' clouds; a
+    Dataset without members is refused, as is a single-valued kind such as ``vp-porosity`` on
+    quantiles, each in one line naming what to do)."""
+    from . import plots
+
+    members = "member" in ds.dims and "vp_members" in ds.data_vars
+    if args.kind == "band" and "quantile" not in ds.dims:
+        raise ValueError(f"--kind band draws the quantile bands of a scene with [uncertain]; "
+                         f"{path.name} has no quantile dimension (plot it with --kind depth)")
+    if args.kind == "sensitivity" and not any(str(v).endswith("_sobol_total")
+                                              for v in ds.data_vars):
+        raise ValueError(f"--kind sensitivity draws Sobol' indices; {path.name} has none: run "
+                         "the scene with sensitivity = true in [uncertain]")
+    if args.kind == "template" and not members:
+        raise ValueError(f"--kind template of a scene with [uncertain] draws the members' "
+                         f"clouds; {path.name} keeps the quantiles only: run the scene with "
+                         "members = true in [uncertain] (or --select quantile=0.5 for the "
+                         "medians)")
+    if args.kind == "vp-porosity":
+        raise ValueError(f"--kind vp-porosity draws one value per depth; {path.name} holds "
+                         "quantiles of uncertain members: --kind band draws them, or "
+                         "--select quantile=0.5 draws one quantile")
+    out = output_file(args.output, _default_figure(path, args), figure=True)
+    if args.kind in ("band", "depth"):
+        fig = plots.depth_bands(ds)
+    elif args.kind == "template":
+        fig = plots.member_template(ds, args.depth)
+    else:
+        fig = _sensitivity_figure(ds, args.variable or "vp", args.depth)
+    saved = plots.save_figure(fig, out)
+    if not args.quiet:
+        print(f"wrote {saved}")
+    return 0
+
+
+def _sensitivity_figure(ds, variable, depths):
+    """The tornado of :func:`rockcem.plots.sobol_tornado` of ``variable`` at ``depths`` (default
+    :func:`rockcem.plots.uncertainty.default_depths`), one row per model of its indices."""
+    import matplotlib.pyplot as plt
+
+    from . import plots
+    from .plots.uncertainty import default_depths
+
+    name = f"{variable}_sobol_total"
+    if name not in ds.data_vars:
+        have = sorted(str(v).removesuffix("_sobol_total") for v in ds.data_vars
+                      if str(v).endswith("_sobol_total"))
+        raise ValueError(f"--variable {variable}: the file has no Sobol' indices of it (it has "
+                         f"those of {', '.join(have)})")
+    depths = depths or default_depths(ds)
+    low, high = float(ds["depth"].min()), float(ds["depth"].max())
+    outside = [d for d in depths if not low <= d <= high]
+    if outside:
+        raise ValueError(f"--depth {outside[0]:g}: outside the file's depths ({low:g}-{high:g} m)")
+    models = [str(m) for m in ds["model"].values] if "model" in ds[name].dims else [None]
+    inputs = ds.sizes["input"]
+    fig = plt.figure(figsize=(3.2 * len(depths) + 1.8, (0.45 * inputs + 1.6) * len(models)),
+                     layout="constrained")
+    rows = fig.subfigures(len(models), 1, squeeze=False)[:, 0]
+    for row, model in zip(rows, models):
+        plots.sobol_tornado(ds, variable, depths, model=model, fig=row)
+    return fig
 
 
 #: The figures of ``rockcem plot --kind avo``: the suffix each adds to the name, and its function.
@@ -433,7 +512,8 @@ def _default_figure(path, args):
 
 def _plot_kind(ds, args, path) -> str:
     """The figure ``rockcem plot`` draws of ``ds``: ``--kind``, or by default ``depth`` for a
-    scene's output (dimension ``depth``; ``avo`` for a stack's with ``avo_class``) and
+    scene's output (dimension ``depth``; ``band`` for one with ``[uncertain]``'s ``quantile``
+    dimension; ``avo`` for a stack's with ``avo_class``) and
     ``md-study`` for an MD study's (dimension ``saturation``, no ``depth``); a one-line ValueError for a file that is neither, or a kind
     that does not fit the file."""
     dims = ", ".join(map(str, ds.dims)) or "none"
@@ -447,6 +527,8 @@ def _plot_kind(ds, args, path) -> str:
                              f"to compute the AVO variables and synthetics")
         if args.kind is None and "avo_class" in ds.data_vars and not args.well:
             return "avo"                    # a stack with [seismic]: its AVO charts
+        if args.kind is None and "quantile" in ds.dims and not args.well:
+            return "band"                   # [uncertain]: quantile bands along depth
         return args.kind or "depth"
     if "saturation" not in ds.dims:
         raise ValueError(f"{path.name} is neither a scene's output (dimension depth) nor an MD "
@@ -588,11 +670,17 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")
-    p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "avo", "synthetic",
-                                      "md-study"],
+    p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "band", "sensitivity",
+                                      "avo", "synthetic", "md-study"],
                    default=None,
-                   help="depth trends (the default for a scene's file), velocity-porosity, the "
-                        "rock-physics template; of a stack scene's file, avo (three files: the "
+                   help="depth trends (the default for a scene's file without [uncertain]), "
+                        "velocity-porosity, the rock-physics template; of a scene with "
+                        "[uncertain], band (quantile "
+                        "bands along depth per model, the median as a line; the default), "
+                        "sensitivity (the tornado of Sobol' indices of --variable at --depth, "
+                        "one row per model; needs sensitivity = true) or template (the members' "
+                        "clouds at --depth; needs members = true); of a stack scene's file, avo "
+                        "(three files: the "
                         "AVO class against depth, the intercept-gradient crossplot and R_PP "
                         "against angle, the name with _class, _crossplot, _angle before its "
                         "suffix; the default for a stack with [seismic]) or synthetic (the "
@@ -602,7 +690,12 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--depth", action="append", type=float, metavar="M",
                    help="--kind avo: a depth (m) of the R_PP-against-angle chart (repeat for "
                         "more; default the whole kilometres within the file's range, at most "
-                        "four)")
+                        "four); --kind sensitivity: a depth of the tornado, --kind template of "
+                        "a file with members: a depth of the clouds (default 2000, 3000, 4000 "
+                        "as far as the file reaches)")
+    p.add_argument("--variable", default=None, metavar="NAME",
+                   help="--kind sensitivity: the output whose Sobol' indices are drawn "
+                        "(temperature, porosity, density, vp or vs; default vp)")
     p.add_argument("--twt", type=float, nargs=2, metavar=("T0", "T1"),
                    help="--kind synthetic: the window of two-way time drawn, s (default the "
                         "whole synthetic)")
@@ -611,7 +704,8 @@ def _parser() -> argparse.ArgumentParser:
                         "for every trace of a row, so amplitudes compare)")
     p.add_argument("--select", action="append", metavar="KEY=VALUE",
                    help="draw only these values of a sweep dimension (e.g. gradient=30 or "
-                        "path.gradient=30; repeat for more values or dimensions)")
+                        "path.gradient=30; repeat for more values or dimensions), or of "
+                        "model or quantile (quantile=0.5: the medians as depth trends)")
     p.add_argument("-o", "--output", help="figure file (.png, .pdf, .svg)")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing (with --well: the read report's warnings only)")

@@ -1,6 +1,8 @@
 """Figures of scene results: depth trends, velocity–porosity with the contact-model family, and
-the rock-physics template (acoustic impedance against Vp/Vs); and of MD studies: velocity against
-cement saturation S_c (:func:`md_study_velocity`).
+the rock-physics template (acoustic impedance against Vp/Vs); of scenes with uncertain inputs:
+quantile bands along depth (:func:`depth_bands`), the template with the members' clouds
+(:func:`member_template`) and the tornado of Sobol' indices (:func:`sobol_tornado`); and of MD
+studies: velocity against cement saturation S_c (:func:`md_study_velocity`).
 
 Every axis is labelled with the quantity and its unit from the variable registry
 (:func:`rockcem.variables.variable_attrs`), written one way throughout: the ``long_name`` without
@@ -23,10 +25,12 @@ from .depth import depth_trends
 from .md_study import md_study_velocity, velocity_error
 from .sensitivity import sobol_tornado
 from .templates import rock_physics_template, velocity_porosity
+from .uncertainty import depth_bands, member_template
 from .wells import fit_figure, well_overlay, well_template
 
-__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_trends", "figure_path",
-           "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_bands", "depth_trends",
+           "figure_path", "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
+           "member_template",
            "reflectivity_angle", "rock_physics_template", "save_figure", "sobol_tornado",
            "synthetic_section",
            "velocity_error", "velocity_porosity", "well_overlay", "well_template"]

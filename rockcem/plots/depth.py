@@ -27,7 +27,10 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     select values of. A variable that is the same at every value of a sweep dimension (the
     porosity of a sweep over a Model 4 parameter) is drawn once, and its panel says "same for
     every <dimension>". A single-valued sweep dimension or scalar coordinate (what
-    ``ds.sel(gradient=30)`` leaves) is named with its value below the figure.
+    ``ds.sel(gradient=30)`` leaves) is named with its value below the figure. A Dataset of
+    quantiles of uncertain members (a ``quantile`` dimension of two or more) is drawn by
+    :func:`~rockcem.plots.depth_bands`: per model the band between the lowest and the highest
+    quantile and the median line (``temperature_axis`` does not apply).
 
     The depths the Dataset's ``validity_warnings`` name are marked where they apply: a line
     about a model ("Model 2 (self-consistent) at 0–3032 m: …", "Models 1 and 3 …") by a
@@ -87,17 +90,12 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     _check_dataset(ds)
+    if "quantile" in ds.dims and ds.sizes["quantile"] > 1:
+        from .uncertainty import depth_bands        # quantiles of uncertain members: bands
+
+        return depth_bands(ds, variables, fig=fig)
     ds, held = _held(ds)
-    if variables is None:
-        variables = [v for v in _DEFAULT_TRENDS if v in ds.data_vars]
-        if not variables:
-            raise ValueError("ds has none of the default variables "
-                             f"({', '.join(_DEFAULT_TRENDS)}); pass variables=")
-    elif isinstance(variables, str):
-        variables = [variables]
-    variables = list(variables)
-    if not variables:
-        raise ValueError("variables must name at least one variable")
+    variables = _panels(ds, variables)
     arrays, notes = [], []
     for name in variables:
         da = _require(ds, name, "depth_trends")
@@ -221,6 +219,23 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             fig.legend(handles=shade, loc="outside upper center")
         _sweep_legend(fig, dims, members, ds, held)
     return fig
+
+
+def _panels(ds, variables, extra=()) -> list[str]:
+    """The panels' variables: ``variables`` as a list (a string is one), or by default those of
+    :data:`~rockcem.plots._style._DEFAULT_TRENDS` in ``ds`` followed by ``extra``; a one-line
+    ValueError when there are none."""
+    if variables is None:
+        variables = [v for v in _DEFAULT_TRENDS if v in ds.data_vars] + list(extra)
+        if not variables:
+            raise ValueError("ds has none of the default variables "
+                             f"({', '.join(_DEFAULT_TRENDS)}); pass variables=")
+    elif isinstance(variables, str):
+        variables = [variables]
+    variables = list(variables)
+    if not variables:
+        raise ValueError("variables must name at least one variable")
+    return variables
 
 
 def flagged_intervals(warnings: str) -> list[tuple[float, float]]:

@@ -117,7 +117,9 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
         For an unknown ``velocity``, missing variables, materials that are neither given nor in
         ``ds.attrs``, parameters out of range, or more than
         :data:`~rockcem.plots.MAX_MEMBERS` sweep members (the message names the dimension to
-        select values of).
+        select values of); a Dataset of quantiles of uncertain members (dimension
+        ``quantile``: a point of two variables' quantiles is no member's; the message names
+        :func:`~rockcem.plots.depth_bands` and how to select one quantile).
 
     Examples
     --------
@@ -134,6 +136,11 @@ def velocity_porosity(ds, *, velocity="vp", grain=None, cement=None, fluid=None,
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     _check_dataset(ds)
+    if "quantile" in ds.dims:
+        raise ValueError(_QUANTILE_REFUSAL.format(
+            what="velocity_porosity",
+            instead="each variable's quantile band along depth with depth_bands "
+                    "(rockcem plot --kind band)"))
     ds, held = _held(ds)
     if velocity not in ("vp", "vs"):
         close = difflib.get_close_matches(str(velocity), ["vp", "vs"], n=1)
@@ -254,6 +261,9 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         Scene Dataset with ``density``, ``vp`` and ``vs`` (optionally per ``model``). A
         Dataset of another lithology (attribute ``lithology``, e.g. a shale) is refused
         unless ``grain`` and ``cement`` are given: the template is that of a cemented sand.
+        A Dataset of quantiles of uncertain members (dimension ``quantile``) is refused with a
+        ValueError naming :func:`~rockcem.plots.member_template` (the members' clouds) and how
+        to select one quantile.
     grain, cement : str or Mineral, optional
         Grain and cement materials; default those of ``ds.attrs`` (a sandstone scene's),
         else quartz and quartz cement.
@@ -304,12 +314,116 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
     ('Acoustic impedance ((km/s)·(g/cm³))', 'Vp/Vs (–)')
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
-    from ..models import patchy_cement_model
-
     held = ""
     if ds is not None:
         _check_dataset(ds)
+        if "quantile" in ds.dims:
+            raise ValueError(_QUANTILE_REFUSAL.format(
+                what="rock_physics_template",
+                instead="the members' clouds with member_template (a scene run with "
+                        "members = true in [uncertain]; rockcem plot --kind template)"))
         ds, held = _held(ds)
+    t = _template_setup(ds, grain=grain, cement=cement, fluid=fluid,
+                        critical_porosity=critical_porosity, pressure=pressure,
+                        porosity=porosity, cement_fraction=cement_fraction,
+                        coordination_number=coordination_number, delta=delta)
+    if ds is not None:
+        data = [_require(ds, n, "rock_physics_template") for n in ("density", "vp", "vs")]
+    phi, phip, ok, knobs, grids, grid = (t[k] for k in ("phi", "phip", "ok", "knobs", "grids",
+                                                       "grid"))
+
+    import matplotlib.pyplot as plt
+
+    members, dims = [({}, "")], []
+    if ds is not None:
+        import xarray as xr
+
+        density, vp, vs = xr.broadcast(*data)
+        density = _md_density(ds, density)
+        dims, members = _members(ds, [density, vp, vs], "rock_physics_template",
+                                 "one panel each")
+    ncols = 2 if len(members) == 4 else min(len(members), 3)      # 2 x 2, not 3 + 1
+    nrows = -(-len(members) // ncols)
+    with plt.rc_context(_RC):
+        size = (6.2, 5.4) if ds is not None else (5.4, 5.0)
+        if len(members) > 1:
+            size = (3.3 * ncols + 1.0, 3.2 * nrows + 0.9)
+        fig = _figure(fig, size)
+        axes = fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False).ravel()
+        for ax in axes[len(members):]:
+            ax.remove()
+        axes = axes[:len(members)]
+        for k, ax in enumerate(axes):
+            own = _member_knobs(ds, members[k][0], coordination_number, delta)
+            _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
+                            legend=(k == 0) and fig, title=_template_title(t) + (
+                                (" (swept: panel titles)" if len(members) > 1
+                                 else " (swept: title)") if own else ""))
+            if len(members) > 1:
+                ax.set_title(members[k][1], fontsize=8.0)
+            elif held:                                 # the member a selection holds
+                ax.set_title(held, fontsize=8.0)
+            if k % ncols == 0:
+                ax.set_ylabel(_label("vp_vs"))
+            if k >= len(members) - ncols:
+                ax.set_xlabel(_label("acoustic_impedance"))
+            ax.margins(x=0.06, y=0.08)
+        if ds is not None:
+            extent = np.array([(np.nanmin(a), np.nanmax(a)) for key in grids
+                               for a in grids[key]]).reshape(-1, 2, 2)
+            _data_points(fig, axes, ds, density, vp, vs, members,
+                         template=(extent[:, 0, 0].min(), extent[:, 0, 1].max(),
+                                   extent[:, 1, 0].min(), extent[:, 1, 1].max()))
+        if held and len(members) > 1:
+            fig.suptitle(held, fontsize=8.0)
+    return fig
+
+
+def _template_title(t) -> str:
+    """The legend title of a template from :func:`_template_setup`'s ``t``: its materials,
+    pressure, critical porosity and Model 4 parameters."""
+    return (f"Model 4 template: {_shown(t['grain'], 'grain')}, "
+            f"{_shown(t['cement'], 'cement')},\n{_shown(t['fluid'], 'fluid')}, "
+            f"{t['pressure']:.3g} MPa, $\\phi_c$ = {t['phic']:g}, "
+            f"$n$ = {t['knobs']['coordination_number']:g}, "
+            f"$\\delta$ = {t['knobs']['delta']:g} MPa")
+
+
+def _template_figure(ds, *, fig=None, **keywords):
+    """One panel of the template of :func:`rock_physics_template` for ``ds`` without its data
+    points (the members' clouds of :func:`rockcem.plots.member_template` go on it):
+    ``(fig, ax)``. ``keywords`` are those of :func:`_template_setup`."""
+    t = _template_setup(ds, **keywords)
+    fig = _figure(fig, (6.6, 5.6))
+    ax = fig.add_subplot()
+    _template_lines(ax, *t["grid"](t["knobs"]), t["phi"], t["phip"], t["ok"], legend=fig,
+                    title=_template_title(t))
+    ax.set_xlabel(_label("acoustic_impedance"))
+    ax.set_ylabel(_label("vp_vs"))
+    ax.margins(x=0.06, y=0.08)
+    return fig, ax
+
+
+#: Why the single-valued figures refuse a Dataset of quantiles (issue 32).
+_QUANTILE_REFUSAL = (
+    "{what} draws one value per depth; this Dataset holds quantiles of uncertain members "
+    "(dimension 'quantile'), and a point of quantiles of several variables is no member's: "
+    "draw {instead}, or select one quantile (ds.sel(quantile=0.5); rockcem plot --select "
+    "quantile=0.5)")
+
+
+def _template_setup(ds, *, grain=None, cement=None, fluid=None, critical_porosity=None,
+                    pressure=None, porosity=None, cement_fraction=None,
+                    coordination_number=None, delta=None):
+    """The template of :func:`rock_physics_template` for ``ds`` (or None): its materials,
+    critical porosity, pressure, porosity and cement grids (``phi``, ``phip``, the admissible
+    ``ok``), Model 4 parameters (``knobs``) and ``grid(knobs)``, the cached impedance and
+    Vp/Vs on the grid (``grids`` holds those computed)."""
+    from ..models import patchy_cement_model
+
+    from ..models import patchy_cement_model
+
+    if ds is not None:
         lithology = ds.attrs.get("lithology", "sandstone")
         if lithology != "sandstone" and (grain is None or cement is None):
             raise ValueError(
@@ -358,8 +472,6 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
         raise ValueError(f"porosity must be a 1-D array of values in (0, {phic:g}]")
     if phip.ndim != 1 or np.any(~np.isfinite(phip)) or np.any((phip < 0.0) | (phip >= phic)):
         raise ValueError(f"cement_fraction must be a 1-D array of values in [0, {phic:g})")
-    if ds is not None:
-        data = [_require(ds, n, "rock_physics_template") for n in ("density", "vp", "vs")]
     P, C = np.meshgrid(phi, phip, indexing="ij")
     ok = P + C <= phic * (1.0 + 1e-12)
     if not ok.any():
@@ -382,55 +494,9 @@ def rock_physics_template(ds=None, *, grain=None, cement=None, fluid=None,
             ratio[ok] = rock.vp / rock.vs
             grids[key] = impedance, ratio
         return grids[key]
-
-    import matplotlib.pyplot as plt
-
-    members, dims = [({}, "")], []
-    if ds is not None:
-        import xarray as xr
-
-        density, vp, vs = xr.broadcast(*data)
-        density = _md_density(ds, density)
-        dims, members = _members(ds, [density, vp, vs], "rock_physics_template",
-                                 "one panel each")
-    ncols = 2 if len(members) == 4 else min(len(members), 3)      # 2 x 2, not 3 + 1
-    nrows = -(-len(members) // ncols)
-    with plt.rc_context(_RC):
-        size = (6.2, 5.4) if ds is not None else (5.4, 5.0)
-        if len(members) > 1:
-            size = (3.3 * ncols + 1.0, 3.2 * nrows + 0.9)
-        fig = _figure(fig, size)
-        axes = fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False).ravel()
-        for ax in axes[len(members):]:
-            ax.remove()
-        axes = axes[:len(members)]
-        for k, ax in enumerate(axes):
-            own = _member_knobs(ds, members[k][0], coordination_number, delta)
-            _template_lines(ax, *grid({**knobs, **own}), phi, phip, ok,
-                            legend=(k == 0) and fig, title=(
-                f"Model 4 template: {_shown(grain, 'grain')}, {_shown(cement, 'cement')},\n"
-                f"{_shown(fluid, 'fluid')}, {pressure:.3g} MPa, $\\phi_c$ = {phic:g}, "
-                f"$n$ = {knobs['coordination_number']:g}, $\\delta$ = {knobs['delta']:g} MPa"
-                + ((" (swept: panel titles)" if len(members) > 1 else " (swept: title)")
-                   if own else "")))
-            if len(members) > 1:
-                ax.set_title(members[k][1], fontsize=8.0)
-            elif held:                                 # the member a selection holds
-                ax.set_title(held, fontsize=8.0)
-            if k % ncols == 0:
-                ax.set_ylabel(_label("vp_vs"))
-            if k >= len(members) - ncols:
-                ax.set_xlabel(_label("acoustic_impedance"))
-            ax.margins(x=0.06, y=0.08)
-        if ds is not None:
-            extent = np.array([(np.nanmin(a), np.nanmax(a)) for key in grids
-                               for a in grids[key]]).reshape(-1, 2, 2)
-            _data_points(fig, axes, ds, density, vp, vs, members,
-                         template=(extent[:, 0, 0].min(), extent[:, 0, 1].max(),
-                                   extent[:, 1, 0].min(), extent[:, 1, 1].max()))
-        if held and len(members) > 1:
-            fig.suptitle(held, fontsize=8.0)
-    return fig
+    return {"grain": grain, "cement": cement, "fluid": fluid, "phic": phic,
+            "pressure": float(pressure), "phi": phi, "phip": phip, "ok": ok, "knobs": knobs,
+            "grids": grids, "grid": grid}
 
 
 #: Model 4 parameters of a scene that the template takes (keywords of patchy_cement_model).
