@@ -344,3 +344,20 @@ def _figure(fig, figsize):
 
 
 # ----------------------------------------------------------------------------- depth trends
+
+
+def _panels(ds, variables, extra=()) -> list[str]:
+    """The panels' variables: ``variables`` as a list (a string is one), or by default those of
+    :data:`_DEFAULT_TRENDS` in ``ds`` followed by ``extra``; a one-line
+    ValueError when there are none."""
+    if variables is None:
+        variables = [v for v in _DEFAULT_TRENDS if v in ds.data_vars] + list(extra)
+        if not variables:
+            raise ValueError("ds has none of the default variables "
+                             f"({', '.join(_DEFAULT_TRENDS)}); pass variables=")
+    elif isinstance(variables, str):
+        variables = [variables]
+    variables = list(variables)
+    if not variables:
+        raise ValueError("variables must name at least one variable")
+    return variables

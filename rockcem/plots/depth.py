@@ -7,7 +7,7 @@ import numpy as np
 
 from ._style import (_INK, _DEFAULT_TRENDS, _RC, _held, _label, _model_label, _model_marker,
                      _model_style,
-                     _shade, _members, _member_text, _sweep_legend, _check_dataset, _require,
+                     _shade, _members, _member_text, _sweep_legend, _check_dataset, _require, _panels,
                      _figure)
 
 __all__ = ["depth_trends"]
@@ -219,23 +219,6 @@ def depth_trends(ds, variables=None, *, temperature_axis=True, fig=None):
             fig.legend(handles=shade, loc="outside upper center")
         _sweep_legend(fig, dims, members, ds, held)
     return fig
-
-
-def _panels(ds, variables, extra=()) -> list[str]:
-    """The panels' variables: ``variables`` as a list (a string is one), or by default those of
-    :data:`~rockcem.plots._style._DEFAULT_TRENDS` in ``ds`` followed by ``extra``; a one-line
-    ValueError when there are none."""
-    if variables is None:
-        variables = [v for v in _DEFAULT_TRENDS if v in ds.data_vars] + list(extra)
-        if not variables:
-            raise ValueError("ds has none of the default variables "
-                             f"({', '.join(_DEFAULT_TRENDS)}); pass variables=")
-    elif isinstance(variables, str):
-        variables = [variables]
-    variables = list(variables)
-    if not variables:
-        raise ValueError("variables must name at least one variable")
-    return variables
 
 
 def flagged_intervals(warnings: str) -> list[tuple[float, float]]:

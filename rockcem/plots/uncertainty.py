@@ -167,7 +167,7 @@ def depth_bands(ds, variables=None, *, fig=None):
     >>> import matplotlib.pyplot as plt; plt.close(fig)
     """
     q = _check_uncertain(ds, "depth_bands")
-    from .depth import _panels
+    from ._style import _panels
 
     variables = _panels(ds, variables, [
         name for name, (a, b, _) in _DERIVED_PANELS.items()
