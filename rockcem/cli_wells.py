@@ -235,8 +235,20 @@ def _fit(args) -> int:
                 errors[name.strip()] = float(value)
             except ValueError:
                 raise ValueError(f"--error {item}: expected LOG=SIGMA, e.g. vp=0.05") from None
-    fit = fit_scene(scene, well, free, model=args.model, variables=args.log,
-                    depth=args.depth, errors=errors)
+    try:
+        fit = fit_scene(scene, well, free, model=args.model, variables=args.log,
+                        depth=args.depth, errors=errors, prior=args.prior)
+    except ValueError as exc:       # name the options the user gave
+        text = str(exc)
+        if text.startswith("prior: give errors"):
+            raise ValueError("--prior needs --error for each fitted log (e.g. --error "
+                             "vp=0.05): the errors weigh the logs against the priors") from None
+        if text.startswith("prior: "):
+            raise ValueError(f"--{text}") from None
+        if "takes its bounds from its prior" in text:
+            raise ValueError(f"--free {text.removeprefix('free parameter ')}".replace(
+                "give it without bounds", "give it as --free KEY with --prior")) from None
+        raise
     if not args.quiet:
         print(fit.summary())
     cal = fit.write_calibration(cal_out)
@@ -332,7 +344,8 @@ def add_commands(sub):
     p.set_defaults(func=_compare)
     p = sub.add_parser("wells", help="list the shipped wells (names for --well)")
     p.set_defaults(func=_wells)
-    p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares")
+    p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares (or "
+                                   "a maximum a posteriori estimate with --prior)")
     p.add_argument("scene", help="scene file or shipped scene name")
     add_well_options(p, required=True)
     p.add_argument("--free", action="append", required=True, metavar="KEY[=LO:HI]",
@@ -348,6 +361,10 @@ def add_commands(sub):
                         "log; default: relative residuals)")
     p.add_argument("-o", "--output", help="calibration file to write "
                                           "(default <scene>_well_fit.toml)")
+    p.add_argument("--prior", action="store_true",
+                   help="use the scene's [uncertain] distributions of the free keys as priors "
+                        "(their ranges as bounds): a maximum a posteriori estimate; needs "
+                        "--error")
     p.add_argument("--figure", help="before/after figure (default <scene>_well_fit.png)")
     p.add_argument("-q", "--quiet", action="store_true", help="no report")
     p.set_defaults(func=_fit)

@@ -193,3 +193,225 @@ def test_cli_band_on_a_dataset_without_quantiles_one_line(tmp_path, band_files, 
         assert err.count("\n") == 1 and err.startswith("rockcem: error:"), err
     assert main(["compare", str(plain), "--band", "0.1", "0.9", "--well", str(csv), "-q"]) == 2
     assert "--band 0.1 0.9: " in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ fit with priors (MAP)
+SIGMA = 0.01            # the porosity log's noise, fraction
+LOG_DEPTHS = np.arange(300.0, 1500.0, 20.0)
+
+
+def _with_uncertain(scene, key, entry):
+    """``scene`` with ``key`` uncertain (``entry``: its [uncertain] table)."""
+    from rockcem.scene import scene_from_dict
+
+    raw = scene._raw()
+    section, _, name = key.rpartition(".")
+    raw[section].pop(name, None)
+    raw["uncertain"] = {"samples": 10, key: entry}
+    return scene_from_dict(raw, base_dir=scene.base_dir)
+
+
+@pytest.fixture(scope="module")
+def porosity_case():
+    """A porosity log made from the sandstone (100 m steps) at porosity0 = 0.36 plus noise of
+    SIGMA, 300-1480 m (no quartz cement above 75 degC, where the porosity is linear in
+    porosity0: checked), and the forward model there: ``m0`` at 0.36, slope ``J``."""
+    import warnings
+
+    from rockcem.scene import load_scene, run_scene
+    from rockcem.synthetic_well import synthetic_well
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        scene = load_scene("carcione2022_sandstone").replace(**{"path.depth_step": 100.0})
+        runs = {p: run_scene(scene.replace(**{"sandstone.porosity0": p}))
+                for p in (0.34, 0.36, 0.38)}
+    at = {p: np.interp(LOG_DEPTHS, ds.depth.values, ds.porosity.values)
+          for p, ds in runs.items()}
+    well = synthetic_well(runs[0.36], LOG_DEPTHS, sigma={"porosity": SIGMA}, seed=7)
+    # Linear in porosity0 near 0.36: the second difference over steps of 0.02 is below 3e-7,
+    # so over the 0.013 the priors below move the answer the model leaves its tangent by
+    # < 1.3e-7 (1e-5 of the log's noise): the closed forms of a linear-Gaussian model hold.
+    curvature = at[0.38] - 2.0 * at[0.36] + at[0.34]
+    assert np.max(np.abs(curvature)) < 3e-7
+    return scene, well, at[0.36], (at[0.38] - at[0.34]) / 0.04
+
+
+def _closed_form(well, m0, J, mean=None, sd=None):
+    """Least squares (no prior) or the posterior mode and sd of porosity0 for the linear model
+    m0 + J (x - 0.36), Gaussian noise SIGMA and a normal prior (mean, sd):
+    x = (A x_LS + mean/sd^2) / (A + 1/sd^2), A = sum(J^2)/SIGMA^2."""
+    o = well.porosity.values
+    A = np.sum(J ** 2) / SIGMA ** 2
+    x_ls = 0.36 + np.sum(J * (o - m0)) / np.sum(J ** 2)
+    if mean is None:
+        return x_ls, 1.0 / np.sqrt(A)
+    return (A * x_ls + mean / sd ** 2) / (A + 1.0 / sd ** 2), 1.0 / np.sqrt(A + 1.0 / sd ** 2)
+
+
+def _fit(scene, well, **kw):
+    import warnings
+
+    from rockcem.wellfit import fit_scene
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_scene(scene, well, ["sandstone.porosity0"], variables=["porosity"],
+                        errors={"porosity": SIGMA}, **kw)
+    return fit.result.values["sandstone.porosity0"], fit.result.stderr["sandstone.porosity0"], \
+        fit
+
+
+def test_map_with_a_weak_prior_is_the_least_squares_answer(porosity_case):
+    scene, well, m0, J = porosity_case
+    x_ls, s_ls = _closed_form(well, m0, J)
+    got_ls, err_ls, _ = _fit(scene, well)
+    assert abs(got_ls - x_ls) < 2e-7 and err_ls == pytest.approx(s_ls, rel=1e-4)
+    weak = _with_uncertain(scene, "sandstone.porosity0", {
+        "distribution": "normal", "mean": 0.40, "sd": 5.0, "truncate": True})
+    x_map, _ = _closed_form(well, m0, J, 0.40, 5.0)
+    assert abs(x_map - x_ls) < 1e-8                 # the weak prior moves it by 3e-9
+    got, err, fit = _fit(weak, well, prior=True)
+    assert abs(got - x_ls) < 2e-7 and err == pytest.approx(s_ls, rel=1e-4)
+    assert "normal(mean 0.4, sd 5) on [0.2, 1]" in fit.summary()
+    assert fit.result.values.keys() == {"sandstone.porosity0"}
+
+
+def test_map_with_a_tight_prior_far_from_the_truth_is_pulled_by_the_closed_form(porosity_case):
+    scene, well, m0, J = porosity_case
+    x_ls, s_ls = _closed_form(well, m0, J)
+    mean, sd = x_ls + 10.0 * s_ls, s_ls / 2.0     # 10 standard errors away, 4x as tight
+    x_map, s_map = _closed_form(well, m0, J, mean, sd)
+    assert x_map - x_ls == pytest.approx(0.8 * (mean - x_ls), rel=1e-12)    # 4/(1 + 4)
+    tight = _with_uncertain(scene, "sandstone.porosity0",
+                            {"distribution": "normal", "mean": mean, "sd": sd})
+    got, err, fit = _fit(tight, well, prior=True)
+    assert abs(got - x_map) < 2e-7 and err == pytest.approx(s_map, rel=1e-3)
+    assert "maximum a posteriori" in fit.weights
+
+
+def test_map_with_a_triangular_prior_matches_a_grid_minimisation(porosity_case):
+    """A prior whose support starts above the data's answer (triangular 0.365, 0.39, 0.42):
+    the objective 1/2 sum(((m - o)/SIGMA)^2) - ln p, its density written out by hand, minimised
+    on a grid of 1e-8 in porosity0."""
+    scene, well, m0, J = porosity_case
+    a, c, b = 0.365, 0.39, 0.42
+    x = np.arange(a + 1e-8, c, 1e-8)
+    o = well.porosity.values
+    r0 = m0 - 0.36 * J - o                       # residual = r0 + J x, expanded
+    data = 0.5 * (np.sum(r0 ** 2) + 2.0 * x * np.sum(r0 * J) + x ** 2 * np.sum(J ** 2)) \
+        / SIGMA ** 2
+    density = 2.0 * (x - a) / ((b - a) * (c - a))          # rising side of the triangle
+    objective = data - np.log(density)
+    k = np.argmin(objective)
+    tri = _with_uncertain(scene, "sandstone.porosity0",
+                          {"distribution": "triangular", "lower": a, "mode": c, "upper": b})
+    got, err, fit = _fit(tri, well, prior=True)
+    # The optimiser stops on a relative change of 1e-8 in the objective (least_squares' ftol in
+    # rockcem.calibrate.fit_parameters): within 3e-7 here, 1e-3 of the standard error.
+    assert abs(got - x[k]) < 0.005 * err
+    assert np.interp(got, x, objective) - objective[k] < 1e-6
+    assert a < got < a + 0.001                  # held off the data's answer by the prior
+
+
+def test_map_with_a_lognormal_prior_matches_a_grid_minimisation(porosity_case):
+    """lognormal(median 0.38, sigma 0.005): -ln p = ln x + (ln x - ln 0.38)^2 / (2 0.005^2) + c,
+    minimised with the data's term on a grid of 1e-5, then of 1e-9 around its minimum."""
+    scene, well, m0, J = porosity_case
+    o = well.porosity.values
+
+    def objective(x):
+        r = (m0[:, None] + J[:, None] * (x - 0.36) - o[:, None]) / SIGMA
+        return 0.5 * np.sum(r ** 2, axis=0) + np.log(x) \
+            + (np.log(x) - np.log(0.38)) ** 2 / (2.0 * 0.005 ** 2)
+
+    x = np.arange(0.30, 0.45, 1e-5)
+    x = np.arange(x[np.argmin(objective(x))] - 2e-5, x[np.argmin(objective(x))] + 2e-5, 1e-9)
+    x_grid = x[np.argmin(objective(x))]
+    prior = _with_uncertain(scene, "sandstone.porosity0",
+                            {"distribution": "lognormal", "median": 0.38, "sigma": 0.005})
+    got, err, _ = _fit(prior, well, prior=True)
+    assert abs(got - x_grid) < 0.001 * err
+    assert 0.3575 + 0.003 < got < 0.38 - 0.003   # between the data's answer and the prior's
+
+
+def test_map_bounds_are_the_priors_range(porosity_case):
+    """A uniform prior on 0.37-0.40, above the data's answer (0.3575): flat inside, so the
+    estimate is its lower end, on the bound."""
+    scene, well, _, _ = porosity_case
+    uniform = _with_uncertain(scene, "sandstone.porosity0",
+                              {"distribution": "uniform", "lower": 0.37, "upper": 0.40})
+    got, _, fit = _fit(uniform, well, prior=True)
+    assert got == pytest.approx(0.37, abs=1e-12) and fit.at_bound == ("sandstone.porosity0",)
+
+
+def test_fit_of_an_uncertain_scene_holds_the_other_keys_at_their_medians():
+    """Was: the fit ran and then failed on 'both set and uncertain'. The medians are those of
+    the shipped distributions: normal 30 and 2.4, lognormal median 0.3, uniform 0-0.4 0.2,
+    triangular 60-75-90 75."""
+    from rockcem.scene import load_scene
+    from rockcem.synthetic_well import synthetic_well
+
+    scene = load_scene("carcione2022_sandstone_uncertain").replace(
+        **{"path.depth_step": 100.0})
+    plain = _band_dataset()      # any well: the porosity log of a known Dataset
+    well = synthetic_well(plain.assign(porosity=0.3 - 0.0 * plain.density.sel(quantile=0.5)),
+                          np.arange(500.0, 2000.0, 100.0), sigma={"porosity": 0.0})
+    _, _, fit = _fit(scene, well)
+    keys = ("path.gradient", "pressure.sediment_density", "sandstone.grain_size",
+            "sandstone.clay_coating", "sandstone.start_temperature")
+    medians = [30.0, 2.4, 0.3, 0.2, 75.0]
+    np.testing.assert_allclose([fit.held[k] for k in keys], medians, rtol=1e-12)
+    for scene_fitted in (fit.scene, fit.fitted):          # the scene the fit ran
+        np.testing.assert_allclose([scene_fitted.sections[k.rpartition(".")[0]][
+            k.rpartition(".")[2]] for k in keys], medians, rtol=1e-12)
+        assert not scene_fitted.uncertain
+    assert "uncertain keys held at their medians: path.gradient = 30" in fit.summary()
+    with pytest.raises(ValueError, match=r"prior: none of the free parameters "
+                                         r"\(sandstone.porosity0\) is uncertain"):
+        _fit(scene, well, prior=True)
+
+
+SCENE_TOML = """name = "band_fit"
+lithology = "sandstone"
+
+[path]
+gradient = 30.0
+sedimentation_rate = 40.0
+max_depth = 2000.0
+depth_step = 100.0
+
+[uncertain]
+samples = 10
+
+[uncertain."sandstone.porosity0"]
+distribution = "normal"
+mean = 0.40
+sd = 0.002
+"""
+
+
+def test_cli_fit_with_prior_and_its_refusals(tmp_path, capsys):
+    from rockcem.cli import main
+
+    scene = tmp_path / "band_fit.toml"
+    scene.write_text(SCENE_TOML)
+    well = tmp_path / "w.csv"
+    z = np.arange(300.0, 1500.0, 100.0)
+    well.write_text("DEPT (m),PHIT (v/v)\n" + "".join(
+        f"{d:g},{0.36 * np.exp(-1e-4 * d):.6f}\n" for d in z))
+    base = ["fit", str(scene), "--well", str(well), "--log", "porosity", "-o",
+            str(tmp_path / "cal.toml"), "--figure", str(tmp_path / "fit.png")]
+    assert main([*base, "--free", "sandstone.porosity0", "--prior", "--error",
+                 "porosity=0.005", "-q"]) == 0
+    assert "maximum a posteriori with priors sandstone.porosity0 normal(mean 0.4, sd 0.002)" \
+        in (tmp_path / "cal.toml").read_text()
+    for extra, says in (
+            (["--free", "sandstone.porosity0", "--prior"], "--prior needs --error"),
+            (["--free", "sandstone.porosity0=0.3:0.5", "--prior", "--error", "porosity=0.005"],
+             "takes its bounds from its prior"),
+            (["--free", "sandstone.beta", "--prior", "--error", "porosity=0.005"],
+             "--prior: none of the free parameters")):
+        assert main([*base, *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("rockcem: error:") and says in err, err
