@@ -357,16 +357,13 @@ def _prior(entry):
     frozen = _frozen(dist, entry)
     low, high, low_open, high_open = entry["range"]
     support = frozen.support()
-    lo, hi = max(float(low), float(support[0])), min(float(high), float(support[1]))
-    if low_open and lo == low:
-        lo = float(np.nextafter(lo, np.inf))
-    if high_open and hi == high:
-        hi = float(np.nextafter(hi, -np.inf))
+    a, b = max(float(low), float(support[0])), min(float(high), float(support[1]))
     c_lo, c_hi = entry["cdf_range"]
-    if not np.isfinite(lo):
-        lo = float(frozen.ppf(c_lo + _PRIOR_TAIL * (c_hi - c_lo)))
-    if not np.isfinite(hi):
-        hi = float(frozen.ppf(c_hi - _PRIOR_TAIL * (c_hi - c_lo)))
+    # An infinite end: the tail quantile; an open one: the next number inside.
+    lo = float(frozen.ppf(c_lo + _PRIOR_TAIL * (c_hi - c_lo))) if not np.isfinite(a) else \
+        float(np.nextafter(a, np.inf)) if low_open and a == low else a
+    hi = float(frozen.isf(1.0 - c_hi + _PRIOR_TAIL * (c_hi - c_lo))) if not np.isfinite(b) else \
+        float(np.nextafter(b, -np.inf)) if high_open and b == high else b
     mode = {"normal": lambda: entry.get("mean"),
             "lognormal": lambda: entry["median"] * np.exp(-entry["sigma"] ** 2),
             "triangular": lambda: entry.get("mode"), "uniform": lambda: lo}[dist]()
@@ -374,7 +371,10 @@ def _prior(entry):
     top = float(frozen.logpdf(mode))
     params = ", ".join(f"{k} {entry[k]:g}" for k in ("mean", "sd", "median", "sigma", "lower",
                                                      "mode", "upper") if k in entry)
-    text = f"{dist}({params}) on [{lo:.6g}, {hi:.6g}]"
+    # The bounds as a range: "(0, 80.8]" for an open end, the tail quantile for an infinite one.
+    left = f"({a:.6g}" if np.isfinite(a) and lo != a else f"[{lo:.6g}"
+    right = f"{b:.6g})" if np.isfinite(b) and hi != b else f"{hi:.6g}]"
+    text = f"{dist}({params}) on {left}, {right}"
 
     def residual(x):
         if dist == "uniform":

@@ -273,7 +273,7 @@ def test_map_with_a_weak_prior_is_the_least_squares_answer(porosity_case):
     assert abs(x_map - x_ls) < 1e-8                 # the weak prior moves it by 3e-9
     got, err, fit = _fit(weak, well, prior=True)
     assert abs(got - x_ls) < 2e-7 and err == pytest.approx(s_ls, rel=1e-4)
-    assert "normal(mean 0.4, sd 5) on [0.2, 1]" in fit.summary()
+    assert "normal(mean 0.4, sd 5) on [0.2, 1)" in fit.summary()     # 1 excluded
     assert fit.result.values.keys() == {"sandstone.porosity0"}
 
 
@@ -415,3 +415,28 @@ def test_cli_fit_with_prior_and_its_refusals(tmp_path, capsys):
         assert main([*base, *extra]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and err.startswith("rockcem: error:") and says in err, err
+
+
+def test_prior_bounds_of_the_shipped_distributions():
+    """The bounds of each prior of the shipped scene: its valid range within the support; the
+    lognormal's infinite upper end at its quantile 1 - 1e-12, 0.3 exp(0.3 z) with
+    z = 7.034 (the normal's upper 1e-12 point); normal residuals (x - mean)/sd."""
+    from scipy.stats import norm
+
+    from rockcem.scene import load_scene
+    from rockcem.wellfit import _prior
+
+    keys = load_scene("carcione2022_sandstone_uncertain").uncertain["keys"]
+    bounds = {k: _prior(e)[1] for k, e in keys.items()}
+    assert bounds["sandstone.grain_size"][1] == pytest.approx(
+        0.3 * np.exp(0.3 * norm.isf(1e-12)), rel=1e-9)
+    assert bounds["sandstone.clay_coating"] == (0.0, 0.4)
+    assert bounds["sandstone.start_temperature"] == (60.0, 90.0)
+    assert 0.0 < bounds["path.gradient"][0] < 1e-300          # open at 0
+    residual, _, text = _prior(keys["path.gradient"])
+    assert text.endswith("on (0, 80.8333]")
+    assert residual(35.0) == pytest.approx(2.0, rel=1e-12)    # (35 - 30)/2.5
+    assert residual(27.5) == pytest.approx(-1.0, rel=1e-12)
+    residual, _, _ = _prior(keys["sandstone.start_temperature"])
+    # triangular 60-75-90: ln p(75) - ln p(66) = ln(15/6); r = -sqrt(2 ln 2.5)
+    assert residual(66.0) == pytest.approx(-np.sqrt(2.0 * np.log(15.0 / 6.0)), rel=1e-12)
