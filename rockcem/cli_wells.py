@@ -261,20 +261,24 @@ def _fit(args) -> int:
 
 
 def plot_with_well(ds, args, path):
-    """``rockcem plot FILE --well LOG``: the logs over the depth trends or the template."""
+    """``rockcem plot FILE --well LOG``: the logs over the depth trends (over the quantile band
+    and the median for a scene with ``[uncertain]``) or the template."""
     from . import plots
 
     if args.kind not in ("depth", "template"):
         raise ValueError("--well draws on --kind depth or --kind template")
-    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    # The quantiles of a scene with [uncertain] are drawn as a band on --kind depth.
+    band = args.kind == "depth" and "quantile" in ds.dims
+    sweeps = [d for d in ds.dims if d not in ("depth", "model")
+              and not (band and d in ("quantile", "member"))]
     if sweeps:
         raise ValueError(f"--well needs one member: select values of {', '.join(sweeps)} "
                          "with --select")
     out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}_well.png"),
                       figure=True)
     well = _well(args)
-    fig = plots.well_overlay(ds, well) if args.kind == "depth" else \
-        plots.well_template(ds, well)
+    fig = plots.well_band(ds, well) if band else plots.well_overlay(ds, well) \
+        if args.kind == "depth" else plots.well_template(ds, well)
     saved = plots.save_figure(fig, out)
     if not args.quiet:
         print(f"wrote {saved}")

@@ -177,6 +177,10 @@ def test_cli_compare_prints_and_writes_the_band(tmp_path, band_files, capsys):
     assert a.inside.tolist() == [0.5, 0.75] and a.blank.tolist() == [1, 1]
     assert written[written.variable == "density"].inside.tolist() == [1.0, 1.0]
     assert png.stat().st_size > 0 and f"wrote {png}" in out
+    # plot --well draws the band too (was: "--well needs one member: select ... quantile").
+    assert main(["plot", str(nc), "--well", str(csv), "-o", str(tmp_path / "p.png"),
+                 "-q"]) == 0
+    assert (tmp_path / "p.png").stat().st_size > 0
 
 
 def test_cli_band_on_a_dataset_without_quantiles_one_line(tmp_path, band_files, capsys):
