@@ -444,3 +444,19 @@ def test_prior_bounds_of_the_shipped_distributions():
     residual, _, _ = _prior(keys["sandstone.start_temperature"])
     # triangular 60-75-90: ln p(75) - ln p(66) = ln(15/6); r = -sqrt(2 ln 2.5)
     assert residual(66.0) == pytest.approx(-np.sqrt(2.0 * np.log(15.0 / 6.0)), rel=1e-12)
+
+
+def test_cli_compare_outputs_checked_before_the_work(tmp_path, band_files, capsys):
+    from rockcem.cli import main
+
+    nc, csv = band_files
+    (tmp_path / "folder").mkdir()
+    for extra, says in ((["-o", str(tmp_path / "folder")], "-o"),
+                        (["--figure", str(tmp_path / "x.xyz")], "--figure must end in .png"),
+                        (["-o", str(tmp_path / "same.png"), "--figure",
+                          str(tmp_path / "same.png")], "-o and --figure name the same file")):
+        assert main(["compare", str(nc), "--well", str(csv), *extra]) == 2
+        captured = capsys.readouterr()
+        assert captured.err.count("\n") == 1 and says in captured.err, captured.err
+        assert captured.out == ""                # refused before the well is read
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["band.nc", "folder", "w.csv"]
