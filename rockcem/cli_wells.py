@@ -146,7 +146,7 @@ def _compare(args) -> int:
 
 
 def _band_header(table):
-    """The lines that say what the band's columns of ``compare`` are."""
+    """The line that says what the band's columns of ``compare`` are."""
     low, high = table["band"].iloc[0].split("-")
     nominal = 100.0 * (float(high) - float(low))
     return (f"band: the {low}-{high} quantile band of the members (quantiles, not exceedance: "

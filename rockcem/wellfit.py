@@ -49,8 +49,10 @@ elastic model.
 A scene with ``[uncertain]`` is fitted as one scene: its uncertain keys that are not free are
 held at their medians (the scene's nominal values). With ``prior=True`` the distributions of
 the free keys that are uncertain are their priors, and the fit is a maximum a posteriori (MAP)
-estimate (Bayes' rule with a Gaussian likelihood; [Tarantola2005]_ eq. 3.46, the posterior
-density, and sect. 3.2.2, its maximum): it minimises
+estimate (the posterior density is proportional to the likelihood times the priors, and its
+maximum minimises minus their logarithm; with Gaussian data errors this is the least-squares
+problem of [Tarantola2005]_ sect. 3.2, pp. 62-70, with the normal prior there replaced by
+:math:`p_k`): it minimises
 
 .. math:: S(\theta) = \tfrac12 \sum_v \sum_i \left(\frac{m_{vi}(\theta) - o_{vi}}{\sigma_v}
           \right)^2 - \sum_k \ln p_k(\theta_k)
@@ -68,7 +70,7 @@ range: the valid range it was truncated to, within the distribution's support, a
 end replaced by the truncated prior's :math:`10^{-12}` quantile. The uncertainties are
 :math:`(J^T J)^{-1}` of those residuals at the estimate (Gauss-Newton): the posterior
 covariance where the model is linear in the parameters and the priors normal
-([Tarantola2005]_ eq. 3.38); for other priors an approximation that leaves out the second
+(:math:`(G^T C_D^{-1} G + C_M^{-1})^{-1}`, [Tarantola2005]_ sect. 3.2-3.3); for other priors an approximation that leaves out the second
 derivative of the signed root (near the end of a triangular prior it understates how fast the
 prior falls, and overstates the error).
 
