@@ -72,23 +72,42 @@ def _scene_dataset(source):
 def _compare(args) -> int:
     import pandas as pd
 
-    from .wells import well_misfit
+    from .wells import WELL_VARIABLES, well_misfit
 
-    if args.interface is not None and args.intervals is not None:
-        raise ValueError("--interface and --intervals do not go together: compare the AVO of "
-                         "one interface, or the logs per interval")
+    if args.interface is not None:
+        given = [o for o, v in (("--intervals", args.intervals), ("--band", args.band),
+                                ("--figure", args.figure), ("-o", args.output))
+                 if v is not None]
+        if given:
+            raise ValueError(f"--interface and {given[0]} do not go together: compare the AVO "
+                             "of one interface, or the logs per interval")
+    # The files are checked before any work: a bad name must not come after the scene's run.
+    table_out = None if args.output is None else output_file(args.output, None)
+    png_out = None if args.figure is None else output_file(args.figure, None,
+                                                           what="--figure", figure=True)
+    if table_out is not None and png_out is not None \
+            and os.path.realpath(table_out) == os.path.realpath(png_out):
+        raise ValueError(f"-o and --figure name the same file: {table_out}")
     well = _well(args)                        # a bad log fails before the scene runs
     if args.interface is not None:
         return _compare_interface(args, well)
     ds = _scene_dataset(args.scene)
-    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    # The quantiles of a scene with [uncertain] are no sweep; its members (members = true)
+    # are other variables.
+    sweeps = sorted({d for v in WELL_VARIABLES if v in ds.data_vars for d in ds[v].dims}
+                    - {"depth", "model", "quantile"})
     if sweeps:
         raise ValueError(f"{args.scene} has sweep dimensions {', '.join(sweeps)}; compare one "
                          "member (rockcem plot --select, or a scene without [sweep])")
+    if args.band is not None and "quantile" not in ds.dims:
+        raise ValueError(f"--band {' '.join(f'{v:g}' for v in args.band)}: {args.scene} has "
+                         "no quantiles (its scene has no [uncertain] section)")
     try:
-        table = well_misfit(ds, well, intervals=args.intervals)
+        table = well_misfit(ds, well, intervals=args.intervals, band=args.band)
     except ValueError as exc:       # name the option the user gave
         if args.intervals is not None and str(exc).startswith("intervals "):
+            raise ValueError(f"--{exc}") from None
+        if args.band is not None and str(exc).startswith(("band ", "band quantile ")):
             raise ValueError(f"--{exc}") from None
         raise
     if args.intervals is not None and "n" in table.columns and not (table["n"] > 0).any():
@@ -100,6 +119,8 @@ def _compare(args) -> int:
     print(f"misfit of {ds.attrs.get('scene_name', args.scene)} to {name} per depth interval "
           "(m): rms and mean (bias) of model/log - 1 for vp, vs and density, of model - log "
           "for porosity (a fraction)")
+    if "band" in table.columns:
+        print(_band_header(table))
     if "porosity" in table.variable.values and "comment" in well.porosity.attrs:
         print(f"porosity log {well.porosity.attrs.get('source_mnemonic', '')}: "
               f"{well.porosity.attrs['comment']}")
@@ -109,7 +130,40 @@ def _compare(args) -> int:
         depths = {c: "{:g}".format for c in ("top", "base") if c in table.columns}
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4f}",
                               formatters=depths))
+    if table_out is not None:
+        _write_table(table, table_out)
+        if not args.quiet:
+            print(f"wrote {table_out}")
+    if png_out is not None:
+        from .plots import save_figure, well_band, well_overlay
+
+        fig = well_band(ds, well, band=args.band) if "quantile" in ds.dims else \
+            well_overlay(ds, well)
+        saved = save_figure(fig, png_out)
+        if not args.quiet:
+            print(f"wrote {saved}")
     return 0
+
+
+def _band_header(table):
+    """The line that says what the band's columns of ``compare`` are."""
+    low, high = table["band"].iloc[0].split("-")
+    nominal = 100.0 * (float(high) - float(low))
+    return (f"band: the {low}-{high} quantile band of the members (quantiles, not exceedance: "
+            f"about {nominal:.0f} % of a log's samples lie in it where the scene's spread is "
+            "right); n_band: log samples compared with it, inside: the share of them within "
+            "it, blank: log samples in the interval without a value (not counted)")
+
+
+def _write_table(table, path):
+    """The table of ``compare`` as CSV (one row per variable, model and interval; the
+    columns as printed), written atomically."""
+    from ._atomic import atomic_write
+
+    def write(tmp):
+        table.to_csv(tmp, index=False, float_format="%.10g")
+
+    atomic_write(path, write)
 
 
 def _compare_interface(args, well) -> int:
@@ -181,8 +235,20 @@ def _fit(args) -> int:
                 errors[name.strip()] = float(value)
             except ValueError:
                 raise ValueError(f"--error {item}: expected LOG=SIGMA, e.g. vp=0.05") from None
-    fit = fit_scene(scene, well, free, model=args.model, variables=args.log,
-                    depth=args.depth, errors=errors)
+    try:
+        fit = fit_scene(scene, well, free, model=args.model, variables=args.log,
+                        depth=args.depth, errors=errors, prior=args.prior)
+    except ValueError as exc:       # name the options the user gave
+        text = str(exc)
+        if text.startswith("prior: give errors"):
+            raise ValueError("--prior needs --error for each fitted log (e.g. --error "
+                             "vp=0.05): the errors weigh the logs against the priors") from None
+        if text.startswith("prior: "):
+            raise ValueError(f"--{text}") from None
+        if "takes its bounds from its prior" in text:
+            raise ValueError(f"--free {text.removeprefix('free parameter ')}".replace(
+                "give it without bounds", "give it as --free KEY with --prior")) from None
+        raise
     if not args.quiet:
         print(fit.summary())
     cal = fit.write_calibration(cal_out)
@@ -195,20 +261,24 @@ def _fit(args) -> int:
 
 
 def plot_with_well(ds, args, path):
-    """``rockcem plot FILE --well LOG``: the logs over the depth trends or the template."""
+    """``rockcem plot FILE --well LOG``: the logs over the depth trends (over the quantile band
+    and the median for a scene with ``[uncertain]``) or the template."""
     from . import plots
 
     if args.kind not in ("depth", "template"):
         raise ValueError("--well draws on --kind depth or --kind template")
-    sweeps = [d for d in ds.dims if d not in ("depth", "model")]
+    # The quantiles of a scene with [uncertain] are drawn as a band on --kind depth.
+    band = args.kind == "depth" and "quantile" in ds.dims
+    sweeps = [d for d in ds.dims if d not in ("depth", "model")
+              and not (band and d in ("quantile", "member"))]
     if sweeps:
         raise ValueError(f"--well needs one member: select values of {', '.join(sweeps)} "
                          "with --select")
     out = output_file(args.output, path.with_name(f"{path.stem}_{args.kind}_well.png"),
                       figure=True)
     well = _well(args)
-    fig = plots.well_overlay(ds, well) if args.kind == "depth" else \
-        plots.well_template(ds, well)
+    fig = plots.well_band(ds, well) if band else plots.well_overlay(ds, well) \
+        if args.kind == "depth" else plots.well_template(ds, well)
     saved = plots.save_figure(fig, out)
     if not args.quiet:
         print(f"wrote {saved}")
@@ -265,12 +335,21 @@ def add_commands(sub):
                    "scene's at that depth")
     p.add_argument("--window", type=float, default=20.0, metavar="M",
                    help="with --interface: length of each averaging window, m (default 20)")
+    p.add_argument("--band", type=float, nargs=2, metavar=("LOW", "HIGH"),
+                   help="a scene with [uncertain]: the quantiles of the band the share of the "
+                        "log inside is counted in (default the lowest and highest, 0.1 0.9)")
+    p.add_argument("-o", "--output", metavar="CSV",
+                   help="write the table as CSV too (columns as printed)")
+    p.add_argument("--figure", metavar="PNG",
+                   help="draw the logs over the scene (.png, .pdf or .svg): over the quantile "
+                        "band and the median for a scene with [uncertain]")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no read report (what was read and blanked is then warned on stderr)")
     p.set_defaults(func=_compare)
     p = sub.add_parser("wells", help="list the shipped wells (names for --well)")
     p.set_defaults(func=_wells)
-    p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares")
+    p = sub.add_parser("fit", help="fit numeric scene keys to a well log by least squares (or "
+                                   "a maximum a posteriori estimate with --prior)")
     p.add_argument("scene", help="scene file or shipped scene name")
     add_well_options(p, required=True)
     p.add_argument("--free", action="append", required=True, metavar="KEY[=LO:HI]",
@@ -286,6 +365,10 @@ def add_commands(sub):
                         "log; default: relative residuals)")
     p.add_argument("-o", "--output", help="calibration file to write "
                                           "(default <scene>_well_fit.toml)")
+    p.add_argument("--prior", action="store_true",
+                   help="use the scene's [uncertain] distributions of the free keys as priors "
+                        "(their ranges as bounds): a maximum a posteriori estimate; needs "
+                        "--error")
     p.add_argument("--figure", help="before/after figure (default <scene>_well_fit.png)")
     p.add_argument("-q", "--quiet", action="store_true", help="no report")
     p.set_defaults(func=_fit)

@@ -45,6 +45,39 @@ best a combination of parameters.
 By default the fit uses the logs that the free keys can change: with only model parameters
 free (``models.*``) that is ``vp`` and ``vs``, since density and porosity do not depend on the
 elastic model.
+
+A scene with ``[uncertain]`` is fitted as one scene: its uncertain keys that are not free are
+held at their medians (the scene's nominal values). With ``prior=True`` the distributions of
+the free keys that are uncertain are their priors, and the fit is a maximum a posteriori (MAP)
+estimate (the posterior density is proportional to the likelihood times the priors, and its
+maximum minimises minus their logarithm; with Gaussian data errors this is the least-squares
+problem of [Tarantola2005]_ sect. 3.2, pp. 62-70, with the normal prior there replaced by
+:math:`p_k`): it minimises
+
+.. math:: S(\theta) = \tfrac12 \sum_v \sum_i \left(\frac{m_{vi}(\theta) - o_{vi}}{\sigma_v}
+          \right)^2 - \sum_k \ln p_k(\theta_k)
+
+over each prior's range, the data term that of independent Gaussian errors of standard
+deviation :math:`\sigma_v` per log (``errors``, required: they weigh the logs against the
+priors), :math:`p_k` the density of key :math:`k`'s distribution truncated to its valid range
+(the truncation adds a constant), a free key without a prior flat within its bounds. It is
+solved as least squares on the residuals of the data and, per prior, the residual
+:math:`r_k = \mathrm{sign}(\theta_k - \hat\theta_k)\sqrt{2[\ln p_k(\hat\theta_k) -
+\ln p_k(\theta_k)]}` with :math:`\hat\theta_k` the prior's mode, so that
+:math:`\tfrac12 r_k^2` is the prior's term up to a constant (for a normal prior,
+:math:`r_k = (\theta_k - \mu_k)/s_k`). The bounds of a key with a prior are its prior's
+range: the valid range it was truncated to, within the distribution's support, an infinite
+end replaced by the truncated prior's :math:`10^{-12}` quantile. The uncertainties are
+:math:`(J^T J)^{-1}` of those residuals at the estimate (Gauss-Newton): the posterior
+covariance where the model is linear in the parameters and the priors normal
+(:math:`(G^T C_D^{-1} G + C_M^{-1})^{-1}`, [Tarantola2005]_ sect. 3.2-3.3); for other priors an approximation that leaves out the second
+derivative of the signed root (near the end of a triangular prior it understates how fast the
+prior falls, and overstates the error).
+
+References
+----------
+.. [Tarantola2005] Tarantola, A. (2005). *Inverse Problem Theory and Methods for Model
+   Parameter Estimation*. SIAM, ch. 3.
 """
 
 from __future__ import annotations
@@ -120,6 +153,12 @@ class SceneFit:
         The well file.
     weights : str
         How the residuals were weighted.
+    priors : dict
+        With ``prior=True``: ``{key: the prior, in words}`` of the free keys with a prior (the
+        fit is then a maximum a posteriori estimate).
+    held : dict
+        The scene's uncertain keys that were not free: ``{key: median}``, the value they were
+        held at.
     """
 
     result: object
@@ -133,6 +172,8 @@ class SceneFit:
     unidentifiable: tuple = ()
     well_source: str = ""
     weights: str = "relative residuals"
+    priors: dict = field(default_factory=dict)
+    held: dict = field(default_factory=dict)
 
     @property
     def at_bound(self) -> tuple:
@@ -161,6 +202,12 @@ class SceneFit:
             "misfit (" + "; ".join(f"{v} {MISFIT[v]}" for v in r.misfit) + ")"
         lines.append(f"  rms {how}: " + ", ".join(
             f"{v} {r.misfit_initial[v]:.4f} -> {r.misfit[v]:.4f}" for v in r.misfit))
+        if self.priors:
+            lines.append("  maximum a posteriori with priors " + "; ".join(
+                f"{k} {v}" for k, v in self.priors.items()) + " (chi2 includes their terms)")
+        if self.held:
+            lines.append("  uncertain keys held at their medians: " + ", ".join(
+                f"{k} = {v:.6g}" for k, v in self.held.items()))
         lines.append(f"  chi2 {r.chi2:.4g}, dof {r.dof}, converged {r.success}")
         return "\n".join(lines)
 
@@ -262,6 +309,14 @@ def _reduced(scene, well, variables, model, *, models_only=False):
     if not variables:
         raise ValueError("the well has no log the scene models (vp, vs, density, porosity)")
     raw = scene._raw()
+    # One scene is fitted: each uncertain key at its median (the scene's nominal value) until
+    # the fit sets it; [uncertain] would refuse a fitted key set beside it.
+    for dotted in (scene.uncertain or {}).get("keys", {}):
+        section, _, key = dotted.rpartition(".")
+        table = raw.setdefault("models", {}).setdefault(section[7:], {}) \
+            if section.startswith("models.") else raw.setdefault(section, {})
+        table[key] = scene.sections[section][key]
+    raw.pop("uncertain", None)
     needs_model = any(v in MODEL_OUTPUTS for v in variables)
     if needs_model:
         if model is None:
@@ -281,6 +336,82 @@ def _reduced(scene, well, variables, model, *, models_only=False):
     raw["outputs"] = list(variables)
     raw.pop("sweep", None)
     return scene_from_dict(raw, base_dir=scene.base_dir), tuple(variables), model
+
+
+#: How far inside an infinite end of a prior's range its bound is put: the truncated prior's
+#: quantile at this probability from that end.
+_PRIOR_TAIL = 1e-12
+#: Largest prior term :math:`\ln p(\hat\theta) - \ln p(\theta)` a residual carries: where the
+#: density is 0 (the ends of a triangular prior) the term would be infinite.
+_PRIOR_CAP = 700.0
+
+
+def _prior(entry):
+    r"""An uncertain key's distribution (an entry of ``scene.uncertain["keys"]``) as a prior of
+    :func:`fit_scene`: ``(residual, (lower, upper), text)``, with ``residual(x)`` the signed
+    root :math:`\mathrm{sign}(x - \hat x)\sqrt{2[\ln p(\hat x) - \ln p(x)]}` (module
+    docstring), :math:`\hat x` the mode of the truncated distribution (for the uniform, whose
+    residual is 0, its lower end), and the bounds its range within the distribution's
+    support."""
+    from ._uncertain import _frozen
+
+    dist = entry["distribution"]
+    frozen = _frozen(dist, entry)
+    low, high, low_open, high_open = entry["range"]
+    support = frozen.support()
+    a, b = max(float(low), float(support[0])), min(float(high), float(support[1]))
+    c_lo, c_hi = entry["cdf_range"]
+    # An infinite end: the tail quantile; an open one: the next number inside.
+    lo = float(frozen.ppf(c_lo + _PRIOR_TAIL * (c_hi - c_lo))) if not np.isfinite(a) else \
+        float(np.nextafter(a, np.inf)) if low_open and a == low else a
+    hi = float(frozen.isf(1.0 - c_hi + _PRIOR_TAIL * (c_hi - c_lo))) if not np.isfinite(b) else \
+        float(np.nextafter(b, -np.inf)) if high_open and b == high else b
+    mode = {"normal": lambda: entry.get("mean"),
+            "lognormal": lambda: entry["median"] * np.exp(-entry["sigma"] ** 2),
+            "triangular": lambda: entry.get("mode"), "uniform": lambda: lo}[dist]()
+    mode = min(max(float(mode), lo), hi)
+    top = float(frozen.logpdf(mode))
+    params = ", ".join(f"{k} {entry[k]:g}" for k in ("mean", "sd", "median", "sigma", "lower",
+                                                     "mode", "upper") if k in entry)
+    # The bounds as a range: "(0, 80.8]" for an open end, the tail quantile for an infinite one.
+    left = f"({a:.6g}" if np.isfinite(a) and lo != a else f"[{lo:.6g}"
+    right = f"{b:.6g})" if np.isfinite(b) and hi != b else f"{hi:.6g}]"
+    text = f"{dist}({params}) on {left}, {right}"
+
+    def residual(x):
+        if dist == "uniform":
+            return 0.0
+        with np.errstate(divide="ignore"):          # log 0 at a triangle's ends: capped
+            drop = min(max(top - float(frozen.logpdf(x)), 0.0), _PRIOR_CAP)
+        return float(np.sign(x - mode) * np.sqrt(2.0 * drop))
+
+    return residual, (lo, hi), text
+
+
+def _with_priors(scene, free, errors):
+    """The free keys with the priors of those that are uncertain in ``scene``: the free keys
+    as :func:`_free` takes them, each with a prior given its prior's bounds (start at the
+    scene's median), and ``{key: (residual, text)}``."""
+    spec = (scene.uncertain or {}).get("keys", {})
+    items = dict(free) if isinstance(free, dict) else dict.fromkeys(free)
+    names = [k for k in items if k in spec]
+    if not names:
+        raise ValueError(f"prior: none of the free parameters ({', '.join(items) or 'none'}) "
+                         "is uncertain in the scene (its [uncertain] keys: "
+                         f"{', '.join(spec) or 'none'})")
+    if errors is None:
+        raise ValueError("prior: give errors, the standard deviation of each fitted log "
+                         "(e.g. vp=0.05): they weigh the logs against the priors")
+    priors = {}
+    for key in names:
+        residual, (lo, hi), text = _prior(spec[key])
+        if items[key] is not None:
+            raise ValueError(f"free parameter {key!r} takes its bounds from its prior "
+                             f"({lo:.6g} to {hi:.6g}); give it without bounds")
+        section, _, name = key.rpartition(".")
+        items[key] = (min(max(float(scene.sections[section][name]), lo), hi), lo, hi)
+        priors[key] = (residual, text)
+    return items, priors
 
 
 def _rock_state(scene):
@@ -330,8 +461,10 @@ def _sandwich_covariance(predict, observed, errors, values, params):
     return bread @ ((J * r[:, None] ** 2).T @ J) @ bread * n / max(n - p, 1)
 
 
-def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, errors=None):
-    """Fit numeric scene keys to well logs by least squares.
+def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, errors=None,
+              prior=False):
+    """Fit numeric scene keys to well logs by least squares, or with the scene's
+    distributions as priors by a maximum a posteriori estimate (module docstring).
 
     Parameters
     ----------
@@ -354,10 +487,37 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
         residuals weighted by them and uncertainties taken as absolute. Default: the misfits
         of :func:`rockcem.wells.well_misfit` (relative; absolute for porosity), each log
         weighted by its own scatter (module docstring).
+    prior : bool, optional, keyword-only
+        Take the distributions of the scene's ``[uncertain]`` keys that are free as their
+        priors and their ranges as their bounds (such keys are given without bounds); needs
+        ``errors`` (the noise model: independent Gaussian errors of those standard deviations)
+        and at least one free key that is uncertain. The fit is then the maximum a posteriori
+        estimate, its uncertainties those of the Gauss-Newton approximation (module docstring).
 
     Returns
     -------
     SceneFit
+
+    Examples
+    --------
+    A porosity log made from the sandstone at an initial porosity of 0.36, fitted with the
+    prior normal(0.40, 0.002), as tight as the log's constraint, lands about half way:
+
+    >>> import numpy as np
+    >>> from rockcem.scene import load_scene, run_scene, scene_from_dict
+    >>> from rockcem.synthetic_well import synthetic_well
+    >>> scene = load_scene("carcione2022_sandstone").replace(**{"path.depth_step": 100.0})
+    >>> truth = run_scene(scene)
+    >>> well = synthetic_well(truth, np.arange(300.0, 1500.0, 100.0),
+    ...                       sigma={"porosity": 0.005})
+    >>> raw = scene._raw()
+    >>> del raw["sandstone"]["porosity0"]
+    >>> raw["uncertain"] = {"samples": 10, "sandstone.porosity0": {
+    ...     "distribution": "normal", "mean": 0.40, "sd": 0.002}}
+    >>> fit = fit_scene(scene_from_dict(raw), well, ["sandstone.porosity0"],
+    ...                 variables=["porosity"], errors={"porosity": 0.005}, prior=True)
+    >>> 0.37 < fit.result.values["sandstone.porosity0"] < 0.39
+    True
     """
     from .calibrate import fit_parameters
     from .runner import _Pipeline
@@ -369,7 +529,12 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
     source = str(well.attrs.get("source_file", "")) if hasattr(well, "data_vars") else str(well)
     if not hasattr(well, "data_vars"):
         well = read_well(well)
+    priors = {}
+    if prior:
+        free, priors = _with_priors(scene, free, errors)
     params = _free(scene, free)
+    held = {k: scene.sections[k.rpartition(".")[0]][k.rpartition(".")[2]]
+            for k in (scene.uncertain or {}).get("keys", {}) if k not in params}
     models_only = all(k.startswith("models.") for k in params)
     reduced, variables, model = _reduced(scene, well, variables, model,
                                          models_only=models_only)
@@ -453,10 +618,16 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
         "misfits " + ", ".join(f"{v} {MISFIT[v]}" for v in variables)
     # Without errors the residuals are well_misfit's, (m - o)/scale, their variance fitted.
     scale = sigma or {v: _misfit_scale(v, observed[v]) for v in variables}
-    result = fit_parameters(predict_from_start, observed, params, errors=scale,
-                            absolute_errors=sigma is not None)
+    if priors:
+        result = _posterior_fit(predict_from_start, observed, params, sigma, priors)
+    else:
+        result = fit_parameters(predict_from_start, observed, params, errors=scale,
+                                absolute_errors=sigma is not None)
     weights = ("relative residuals" if how == "relative" else how) if sigma is None else \
         "absolute errors " + ", ".join(f"{k} {v:g}" for k, v in sigma.items())
+    if priors:
+        weights += ("; maximum a posteriori with priors " + "; ".join(
+            f"{k} {text}" for k, (_, text) in priors.items()))
     if sigma is None:
         # Second stage (module docstring): errors s_v c_v(m_v) from the first solution m_v.
         first = result
@@ -481,7 +652,33 @@ def fit_scene(scene, well, free, *, model=None, variables=None, depth=None, erro
                                  misfit_initial=_rms_misfit(initial, observed))
     bad = _unidentifiable(result, params)
     return SceneFit(result, reduced, reduced.replace(**result.values), model, variables,
-                    (lo, hi), points, _correlation(result), bad, source, weights)
+                    (lo, hi), points, _correlation(result), bad, source, weights,
+                    {k: text for k, (_, text) in priors.items()}, held)
+
+
+def _posterior_fit(predict, observed, params, sigma, priors):
+    r"""The maximum a posteriori estimate of the module docstring: least squares on the data's
+    residuals :math:`(m - o)/\sigma` and one residual per prior (:func:`_prior`), its
+    covariance :math:`(J^T J)^{-1}` of them all (absolute errors). ``chi2`` is twice the
+    objective (the priors' terms counted from their modes); ``misfit`` and ``predicted`` are
+    the logs'."""
+    from .calibrate import fit_parameters
+
+    labels = {f"prior {k}": k for k in priors}
+
+    def augmented(**values):
+        out = dict(predict(**values))
+        for label, key in labels.items():
+            out[label] = np.array([priors[key][0](values[key])])
+        return out
+
+    result = fit_parameters(augmented, {**observed, **dict.fromkeys(labels, np.zeros(1))},
+                            params, errors={**sigma, **dict.fromkeys(labels, 1.0)},
+                            absolute_errors=True)
+    return dataclasses.replace(
+        result, predicted={v: result.predicted[v] for v in observed},
+        misfit={v: result.misfit[v] for v in observed},
+        misfit_initial={v: result.misfit_initial[v] for v in observed})
 
 
 def _rms_misfit(model, log):

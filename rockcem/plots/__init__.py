@@ -26,11 +26,11 @@ from .md_study import md_study_velocity, velocity_error
 from .sensitivity import sobol_tornado
 from .templates import rock_physics_template, velocity_porosity
 from .uncertainty import depth_bands, member_template
-from .wells import fit_figure, well_overlay, well_template
+from .wells import fit_figure, well_band, well_overlay, well_template
 
 __all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_bands", "depth_trends",
            "figure_path", "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
            "member_template",
            "reflectivity_angle", "rock_physics_template", "save_figure", "sobol_tornado",
            "synthetic_section",
-           "velocity_error", "velocity_porosity", "well_overlay", "well_template"]
+           "velocity_error", "velocity_porosity", "well_band", "well_overlay", "well_template"]

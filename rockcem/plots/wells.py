@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["well_overlay", "well_template", "fit_figure"]
+__all__ = ["well_overlay", "well_band", "well_template", "fit_figure"]
 
 _WELL_COLOUR = "#7F7F7F"
 _WELL_VARIABLES = ("vp", "vs", "density", "porosity")
@@ -15,6 +15,18 @@ def _log_style(n):
     """Dots for sparse logs, a thin line for dense ones (drawn under the models)."""
     return ({"linestyle": "none", "marker": ".", "markersize": 3.0} if n <= 200 else
             {"linewidth": 0.6}) | {"color": _WELL_COLOUR, "alpha": 0.8, "zorder": 1.0}
+
+
+def _shared(ds, well, variables):
+    """The variables to draw: ``variables`` (default all of ``vp``, ``vs``, ``density``,
+    ``porosity`` that the scene and the well both hold), each checked to be in both."""
+    shared = [v for v in _WELL_VARIABLES if v in ds.data_vars and v in well.data_vars]
+    variables = shared if variables is None else list(variables)
+    missing = [v for v in variables if v not in shared]
+    if missing or not variables:
+        raise ValueError(f"variable {missing[0] if missing else None!r} is not in both the "
+                         f"scene and the well (shared: {', '.join(shared) or 'none'})")
+    return variables
 
 
 def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
@@ -57,13 +69,7 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
     """
     from .depth import depth_trends
 
-    shared = [v for v in _WELL_VARIABLES if v in ds.data_vars and v in well.data_vars]
-    if variables is None:
-        variables = shared
-    missing = [v for v in variables if v not in shared]
-    if missing or not variables:
-        raise ValueError(f"variable {missing[0] if missing else None!r} is not in both the "
-                         f"scene and the well (shared: {', '.join(shared) or 'none'})")
+    variables = _shared(ds, well, variables)
     fig = depth_trends(ds, list(variables), temperature_axis=False, fig=fig)
     name = well.attrs.get("well") or well.attrs.get("source_file") or "well"
     z = well.depth.values
@@ -83,6 +89,117 @@ def well_overlay(ds, well, variables=None, *, depth=None, fig=None):
     lo = min(float(ds.depth.min()), float(z.min())) if depth is None else float(depth[0])
     hi = max(float(ds.depth.max()), float(z.max())) if depth is None else float(depth[1])
     fig.axes[0].set_ylim(hi, lo)
+    return fig
+
+
+def well_band(ds, well, variables=None, *, models=None, band=None, depth=None, fig=None):
+    """Well logs over a scene's quantile band and median (a scene with ``[uncertain]``).
+
+    One panel per curve both hold: for each model (model-independent variables in dark grey)
+    the band between two quantiles of the members shaded, the median (quantile 0.5) as a line,
+    and the log in grey drawn over them. These are quantiles (probability of non-exceedance):
+    the default 0.1-0.9 band holds about 80 % of a well-calibrated model's samples; the share
+    of each log inside it per interval is the ``inside`` column of
+    :func:`rockcem.wells.well_misfit` (``rockcem compare``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Scene Dataset with a ``quantile`` dimension holding 0.5 (no sweep dimension).
+    well : xarray.Dataset
+        From :func:`rockcem.wells.read_well` (depth m, vp/vs km/s, density g/cm³, porosity).
+    variables : sequence of str, optional
+        Curves drawn, one panel each (default every one of ``vp``, ``vs``, ``density``,
+        ``porosity`` that the scene and the well share).
+    models : sequence of str, optional
+        Models drawn (default all of the Dataset's).
+    band : (float, float), optional
+        The band's quantiles, two of the Dataset's; default its lowest and highest.
+    depth : (float, float), optional
+        Top and base drawn, m (default from the shallower to the deeper end of the scene and
+        the log).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the panels in.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per variable: the bands (``gid`` ``"band:<variable>:<model>"``, model ``"-"``
+        for a model-independent variable), the medians (``"median:<variable>:<model>"``) and
+        the logs (``"well:<variable>"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rockcem.variables import build_dataset
+    >>> z = np.linspace(0.0, 3000.0, 4)
+    >>> vp = np.stack([2.0 + 1e-3 * z, 2.2 + 1e-3 * z, 2.4 + 1e-3 * z])   # quantile, depth
+    >>> ds = build_dataset({"vp": (("quantile", "depth"), vp)},
+    ...                    {"quantile": (("quantile",), [0.1, 0.5, 0.9]),
+    ...                     "depth": (("depth",), z)})
+    >>> well = build_dataset({"vp": (("depth",), [3.1, 3.9])}, {"depth": (("depth",), [1000.0,
+    ...                      2000.0])})
+    >>> fig = well_band(ds, well)
+    >>> ax = fig.axes[0]
+    >>> [a.get_gid() for a in ax.collections + ax.lines if a.get_gid()]
+    ['band:vp:-', 'median:vp:-', 'well:vp']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
+    """
+    import matplotlib.pyplot as plt
+
+    from .._well_misfit import _at_quantile, band_quantiles
+    from ._style import _INK, _RC, _label, _model_colour, _model_label
+
+    if "quantile" not in ds.dims:
+        raise ValueError("well_band needs a scene Dataset with quantiles (a scene with "
+                         "[uncertain]); draw this one with well_overlay")
+    low, high, median = band_quantiles(ds, band)
+    variables = _shared(ds, well, variables)
+    extra = sorted({d for v in variables for d in ds[v].dims} - {"quantile", "model", "depth"})
+    if extra:
+        raise ValueError(f"the scene Dataset has sweep dimensions {', '.join(extra)}; select "
+                         "one member first (ds.sel(...))")
+    all_models = ds.model.values.tolist() if "model" in ds.dims else []
+    models = all_models if models is None else list(models)
+    unknown = [m for m in models if m not in all_models]
+    if unknown:
+        raise ValueError(f"model {unknown[0]!r} is not in the scene Dataset (models: "
+                         f"{', '.join(map(str, all_models)) or 'none'})")
+    at = {q: _at_quantile(ds, q) for q in (low, high, median)}
+    z = ds.depth.values
+    name = well.attrs.get("well") or well.attrs.get("source_file") or "well"
+    with plt.rc_context(_RC):
+        if fig is None:
+            fig = plt.figure(figsize=(1.2 + 2.3 * len(variables), 5.6), layout="constrained")
+        axes = np.atleast_1d(fig.subplots(1, len(variables), sharey=True, squeeze=False)[0])
+        handles = []
+        for ax, v in zip(axes, variables):
+            drawn = [(m, _model_colour(m, i)) for i, m in enumerate(all_models)
+                     if m in models] if "model" in ds[v].dims else [("-", _INK)]
+            for m, colour in drawn:
+                lo, hi, mid = (at[q][v].sel(model=m) if m != "-" else at[q][v]
+                               for q in (low, high, median))
+                what = _model_label(m) if m != "-" else "scene"
+                patch = ax.fill_betweenx(z, lo.values, hi.values, color=colour, alpha=0.25,
+                                         linewidth=0.0, zorder=1.0, gid=f"band:{v}:{m}",
+                                         label=f"{what}: quantiles {low:g}–{high:g}")
+                line, = ax.plot(mid.values, z, color=colour, linewidth=1.4, zorder=2.0,
+                                gid=f"median:{v}:{m}", label=f"{what}: median")
+                handles += [patch, line]
+            log = well[v].attrs.get("log_label") or well[v].attrs.get("source_mnemonic", v)
+            style = _log_style(np.isfinite(well[v].values).sum()) | {"zorder": 3.0}
+            line, = ax.plot(well[v].values, well.depth.values, label=f"{name} ({log})",
+                            gid=f"well:{v}", **style)
+            handles.append(line)
+            ax.set_xlabel(_label(v, ds, width=26))
+        axes[0].set_ylabel(_label("depth", ds))
+        zw = well.depth.values
+        top = min(float(z.min()), float(zw.min())) if depth is None else float(depth[0])
+        base = max(float(z.max()), float(zw.max())) if depth is None else float(depth[1])
+        axes[0].set_ylim(base, top)
+        unique = list({h.get_label(): h for h in handles}.values())
+        fig.legend(handles=unique, loc="outside lower center", ncols=min(len(unique), 4),
+                   fontsize=7.5, frameon=False)
     return fig
 
 
