@@ -130,11 +130,15 @@ def _commands(tmp_path, scene_nc):
         "plot --well -o": (["plot", str(scene_nc), "--well", las, "-o"], "x.png"),
         "fit -o": (fit + ["-q", "--figure", str(tmp_path / "f.png"), "-o"], "x.toml"),
         "fit --figure": (fit + ["-q", "-o", str(tmp_path / "c.toml"), "--figure"], "x.png"),
+        "compare -o": (["compare", str(scene_nc), "--well", las, "-q", "-o"], "x.csv"),
+        "compare --figure": (["compare", str(scene_nc), "--well", las, "-q", "--figure"],
+                             "x.png"),
     }
 
 
 @pytest.mark.parametrize("command", ["run -o", "plot -o", "plot --kind template -o",
-                                     "plot --well -o", "fit -o", "fit --figure"])
+                                     "plot --well -o", "fit -o", "fit --figure", "compare -o",
+                                     "compare --figure"])
 @pytest.mark.parametrize("kind", KINDS)
 def test_hostile_output_refused_before_the_run_and_left_as_it_was(
         kind, command, tmp_path, scene_nc, no_work, capsys, monkeypatch):
