@@ -70,6 +70,12 @@ The MD backend
     elsewhere. Its stage files lie in ``<stack output stem>_<layer>_md_work``; the reservoir's
     fluid members share them (the MD frame does not depend on the fluid), so it runs once.
 
+Uncertain inputs
+    ``[uncertain]`` takes the stack's ``path.*`` and ``pressure.*`` keys and each layer's keys
+    as ``"layers.<name>.<section>.<key>"`` (``"layers.reservoir.sandstone.grain_size"``,
+    ``"layers.seal.models.hs_gassmann.A"``); :mod:`rockcem._uncertain_stack` checks them (each
+    layer's scene checks its own, as a plain scene's ``[uncertain]``) and runs the members.
+
 Not in a stack (refused with a message): ``[sweep]`` and a scene calibration.
 
 This module reads and checks the keys; :mod:`rockcem._stack_dataset` evaluates the layers and
@@ -91,7 +97,7 @@ __all__ = ["STACK_FLUIDS", "StackLayer", "stack_scene_from_dict"]
 STACK_FLUIDS = ("brine", "gas", "oil", "co2", "methane")
 _LAYER_NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 _HEAD = ("name", "description", "output")
-_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "seismic", "layers")
+_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "seismic", "layers", "uncertain")
 #: Keys of a plain scene that a stack does not take at its top level, and why.
 _NOT_AT_TOP = {
     "lithology": "each layer names its own ([[layers]] lithology or scene)",
@@ -191,7 +197,11 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     if len(layers_raw) < 2:
         _fail(f"a stack needs at least two layers ([[layers]], top to bottom); got "
               f"{len(layers_raw)} (one lithology is a plain scene: lithology = ...)")
-    specs = [_layer_spec(i, t, base_dir) for i, t in enumerate(layers_raw)]
+    from ._uncertain_stack import layer_uncertain, split_uncertain, stack_uncertain
+
+    split = split_uncertain(raw)
+    specs = [_layer_spec(i, t, base_dir, split.layer_keys(t.get("name")) if split else ())
+             for i, t in enumerate(layers_raw)]
     names = [s["name"] for s in specs]
     for i, name in enumerate(names):
         if name in names[:i]:
@@ -212,7 +222,9 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     layers = []
     for spec in specs:
         members = fluids if spec["name"] == reservoir else ["brine"]
-        scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults)
+        uncertain = layer_uncertain(split, spec)
+        scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults,
+                                  uncertain)
                   for f in members}
         layers.append(StackLayer(spec["name"], spec["lithology"], spec["thickness"],
                                  spec["stand_in"], scenes))
@@ -228,7 +240,7 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     return Scene(head["name"], "stack", outputs, head["output"] or f"{head['name']}.nc",
                  models, sections, {}, text if text is not None else _to_toml(raw),
                  head["description"], None if base_dir is None else str(base_dir), {},
-                 layers=tuple(layers))
+                 layers=tuple(layers), uncertain=stack_uncertain(split, layers))
 
 
 def _check_stack_fluid(given, fluid, fluids):
@@ -257,8 +269,11 @@ def _default_fluid_outputs(fluid, carbons):
     return _fluid_outputs(fluid, {"fluid.hydrocarbon": carbons or ["none"]})[1]
 
 
-def _layer_spec(i, given, base_dir):
-    """A layer's keys, its referenced scene's sections merged in, checked."""
+def _layer_spec(i, given, base_dir, uncertain=()):
+    """A layer's keys, its referenced scene's sections merged in, checked; the layer's
+    ``uncertain`` keys (``"section.key"``) are dropped from the referenced scene's sections
+    (the distribution replaces the referenced value; one the layer sets itself stays, and its
+    scene refuses it as both set and uncertain)."""
     from .scene import SCHEMA, _section, _suggest
 
     where = f"layers[{i}]"
@@ -293,9 +308,13 @@ def _layer_spec(i, given, base_dir):
         for what, table in ((f"{where}.{sec}", own), (f"section [{sec}] of {keys['scene']}", ref)):
             if not isinstance(table, dict):
                 _fail(f"scene {what} must be a table")
+        ref = {k: v for k, v in ref.items() if f"{sec}.{k}" not in uncertain}
         if own or ref or sec in given:
             sections[sec] = {**ref, **own}
-    sections["models"] = given["models"] if "models" in given else base.get("models", {})
+    sections["models"] = given["models"] if "models" in given else {
+        label: ({k: v for k, v in table.items() if f"models.{label}.{k}" not in uncertain}
+                if isinstance(table, dict) else table)
+        for label, table in base.get("models", {}).items()}
     if not isinstance(sections["models"], dict):
         _fail(f"scene section {where}.models must hold one table per model")
     if not sections["models"]:
@@ -415,9 +434,11 @@ def _check_thickness(specs, path):
                   f"at or below path.max_depth ({deepest:g} m): the last layer holds no depth")
 
 
-def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults):
+def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults,
+                 uncertain=None):
     """The plain scene of a layer with one pore fluid (``member``: 'brine' or a hydrocarbon),
-    on the stack's ``shared`` [path] and [pressure]."""
+    on the stack's ``shared`` [path] and [pressure]; ``uncertain``, the layer's own
+    ``[uncertain]`` table (plain ``"section.key"`` names), if any."""
     from .scene import MODEL_OUTPUTS, STATE_OUTPUTS, scene_from_dict
     from .validation import prefixed_errors
 
@@ -430,6 +451,8 @@ def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults):
     layer.update(shared)
     if given_fluid or member != "brine":
         layer["fluid"] = _member_fluid(given_fluid, member)
+    if uncertain:
+        layer["uncertain"] = uncertain
     what = f"layer {spec['name']!r}" + (f" with {member}" if member != "brine" else "")
     with prefixed_errors(what):
         return scene_from_dict(layer, base_dir=spec["base_dir"])

@@ -16,7 +16,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["InterfaceProperties", "evaluate_stack", "interface_properties"]
+__all__ = ["InterfaceProperties", "evaluate_stack", "interface_properties", "join_layers",
+           "side_arrays"]
 
 #: Variables that change with the reservoir's pore fluid (the ``fluid`` dimension).
 _FLUID_VARIABLES = ("K_sat", "G_sat", "vp", "vs", "density", "fluid_density",
@@ -52,8 +53,6 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
     from .runner import evaluate
     from .validation import prefixed_errors
 
-    stack = scene.sections["stack"]
-    fluids = list(stack["fluids"])
     runs = {}
     for layer in scene.layers:
         for member, sub in layer.scenes.items():
@@ -65,6 +64,15 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
                         sub, output=str(out.with_name(f"{out.stem}_{layer.name}{out.suffix}")))
                 runs[layer.name, member] = evaluate(sub, scheduler=scheduler, jobs=jobs,
                                                     progress=progress)
+    return join_layers(scene, runs)
+
+
+def join_layers(scene, runs):
+    """The stack's Dataset from its layers' runs: ``runs`` maps ``(layer name, fluid member)``
+    to the layer's Dataset for that member (its dims ``[model,] depth``); the joined
+    variables, the interfaces, ``model_of_layer`` and, with thicknesses, the column."""
+    stack = scene.sections["stack"]
+    fluids = list(stack["fluids"])
     first = runs[scene.layers[0].name, next(iter(scene.layers[0].scenes))]
     depth = first["depth"].values
     models = list(scene.models)
@@ -224,6 +232,44 @@ def _sides(ds, name):
     models = [str(m) for m in ds["model"].values]
     pick = [[models.index(str(m)) for m in row] for row in ds["model_of_layer"].values]
     return np.stack([values[i][:, row, :] for i, row in enumerate(pick)])
+
+
+def side_arrays(scene, values):
+    """Both sides of every interface of a stack from its layers' raw arrays (the members of an
+    uncertain stack, :mod:`rockcem._uncertain_stack`), as :func:`interface_properties` pairs
+    them from a Dataset.
+
+    Parameters
+    ----------
+    scene : Scene
+        The stack.
+    values : dict
+        ``{(layer name, fluid member): {"vp": ndarray (m, layer models, depth), "vs": ...,
+        "density": ndarray (m, depth)}}``, the layer's models in its scene's order.
+
+    Returns
+    -------
+    list of ndarray
+        ``[vp1, vs1, rho1, vp2, vs2, rho2]``, each (m, interface, fluid, model, depth).
+    """
+    fluids = list(scene.sections["stack"]["fluids"])
+    per_layer = {name: [] for name in ("vp", "vs", "density")}
+    for layer in scene.layers:
+        own = list(layer.scenes[next(iter(layer.scenes))].models)
+        columns = [own.index(m if m in own else layer.stand_in) for m in scene.models]
+        for name in per_layer:
+            rows = []
+            for f in fluids:
+                a = np.asarray(values[layer.name, f if f in layer.scenes else "brine"][name],
+                               dtype=float)
+                rows.append(a[:, columns, :] if a.ndim == 3 else
+                            np.repeat(a[:, None, :], len(columns), axis=1))
+            per_layer[name].append(np.stack(rows, axis=1))          # m, fluid, model, depth
+    out = []
+    for end in (slice(None, -1), slice(1, None)):
+        for name in ("vp", "vs", "density"):
+            out.append(np.stack(per_layer[name][end], axis=1))
+    return out
 
 
 def interface_properties(ds):

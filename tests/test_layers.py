@@ -14,6 +14,7 @@ BASE = {"rockcem.validation", "rockcem.constants", "rockcem.variables", "rockcem
 SCENE_LAYER = {"rockcem.scene", "rockcem.runner", "rockcem.histories", "rockcem.wellfit",
                "rockcem.__main__", "rockcem._scene_stack", "rockcem._stack_dataset",
                "rockcem._stack_seismic", "rockcem._uncertain", "rockcem._uncertain_keys",
+               "rockcem._uncertain_stack",
                "rockcem.cli", "rockcem.cli_wells", "rockcem._cli_files", "rockcem.plots"}
 
 
