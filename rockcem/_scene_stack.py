@@ -84,6 +84,7 @@ builds the Dataset.
 
 from __future__ import annotations
 
+import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -91,7 +92,7 @@ from pathlib import Path
 import numpy as np
 
 
-__all__ = ["STACK_FLUIDS", "StackLayer", "stack_scene_from_dict"]
+__all__ = ["STACK_FLUIDS", "StackLayer", "StackUncertain", "stack_scene_from_dict"]
 
 #: The pore fluids a stack's reservoir may hold (``[stack] fluids``).
 STACK_FLUIDS = ("brine", "gas", "oil", "co2", "methane")
@@ -197,8 +198,6 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     if len(layers_raw) < 2:
         _fail(f"a stack needs at least two layers ([[layers]], top to bottom); got "
               f"{len(layers_raw)} (one lithology is a plain scene: lithology = ...)")
-    from ._uncertain_stack import layer_uncertain, split_uncertain, stack_uncertain
-
     split = split_uncertain(raw)
     specs = [_layer_spec(i, t, base_dir, split.layer_keys(t.get("name")) if split else ())
              for i, t in enumerate(layers_raw)]
@@ -496,3 +495,125 @@ def _pair_models(specs, layers):
             _fail(f"scene key {spec['where']}.stand_in: the layer has every model of the stack "
                   f"({', '.join(union)}), so nothing to stand in for; remove it")
     return union
+
+
+# ----------------------------------------------------------------------------- uncertain
+_SHARED = ("path", "pressure")
+_NOT_IN_STACK = {
+    "members": "keeping every member is not done for a stack yet (its quantiles and AVO class "
+               "probabilities are); run a layer as a plain scene to keep its members",
+    "sensitivity": "Sobol' indices are not computed for a stack yet; run a layer as a plain "
+                   "scene with sensitivity = true",
+}
+
+
+@dataclass
+class StackUncertain:
+    """A stack's ``[uncertain]`` split: ``top`` (samples, seed, ...), ``keys`` (stack
+    dotted name -> its table, in the order given) and ``where`` (stack dotted name ->
+    ``(layer name or None for a shared key, the plain "section.key")``)."""
+
+    top: dict
+    keys: dict
+    where: dict
+
+    def layer_keys(self, name):
+        """The plain keys uncertain in layer ``name`` (its own, not the shared ones)."""
+        return {plain for layer, plain in self.where.values() if layer == name}
+
+
+def split_uncertain(raw):
+    """The ``[uncertain]`` table of a stack scene ``raw`` split by layer, checked for what
+    belongs to a stack: each key shared (``path.*``, ``pressure.*``, not set in the stack's
+    section) or a layer's (``layers.<layer>.<section>.<key>``, the layer named). None
+    without ``[uncertain]``."""
+    table = raw.get("uncertain")
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        _fail("scene section [uncertain] must be a table")
+    names = [t.get("name") for t in raw["layers"] if isinstance(t.get("name"), str)]
+    example = f"layers.{names[-1] if names else 'reservoir'}.sandstone.grain_size"
+    top, keys, where = {}, {}, {}
+    for dotted, entry in table.items():
+        if not isinstance(entry, dict):
+            if entry not in (False, None) and dotted in _NOT_IN_STACK:
+                _fail(f"scene key uncertain.{dotted} does not apply to a stack of layers: "
+                      f"{_NOT_IN_STACK[dotted]}")
+            top[dotted] = entry
+            continue
+        section, _, key = dotted.partition(".")
+        if dotted == "layers" or (section == "layers" and "distribution" not in entry):
+            _fail(f"scene section [uncertain.layers...]: quote the key, "
+                  f"[uncertain.\"{example}\"] (a dotted key unquoted is a table in a table)")
+        if section in _SHARED and "." not in key:
+            given = raw.get(section, {})
+            if isinstance(given, dict) and key in given:
+                _fail(f"scene key {dotted} is both set ({given[key]!r}) and uncertain; remove "
+                      "one of them")
+            where[dotted] = (None, dotted)
+        elif section == "layers":
+            layer, _, plain = key.partition(".")
+            if layer not in names:
+                close = difflib.get_close_matches(layer, names, n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else \
+                    f" (layers: {', '.join(names)})"
+                _fail(f"uncertain key {dotted!r}: no layer {layer!r}{hint}")
+            if "." not in plain:
+                _fail(f"uncertain key {dotted!r}: name the layer's key as "
+                      f"layers.{layer}.<section>.<key> (e.g. {example!r})")
+            where[dotted] = (layer, plain)
+        elif section == "fluid":
+            _fail(f"uncertain key {dotted!r}: a stack's [fluid] keys are not sampled yet (the "
+                  "fluid is shared by every layer and fluid member); sample them in a plain "
+                  "scene")
+        else:
+            _fail(f"uncertain key {dotted!r} does not name a key of a stack: the shared "
+                  f"path.<key> and pressure.<key>, or a layer's as "
+                  f"layers.<layer>.<section>.<key> (e.g. {example!r})")
+        keys[dotted] = entry
+    if not keys:
+        _fail(f"scene section [uncertain] names no key: add a table such as "
+              f"[uncertain.\"{example}\"] distribution = \"normal\", ...")
+    return StackUncertain(top, keys, where)
+
+
+def layer_uncertain(split, spec):
+    """The ``[uncertain]`` table of the layer of ``spec`` (plain key names) or None where no
+    key applies to it; a layer with the MD backend is refused by name."""
+    if split is None:
+        return None
+    if "md" in spec["sections"]["models"]:
+        _fail(f"scene section [uncertain] does not apply to a stack whose layer "
+              f"{spec['name']!r} runs the MD backend ([layers.models.md]): an MD member takes "
+              "minutes, 10^3 members days; remove [uncertain] or that layer's MD model")
+    keys = {plain: split.keys[dotted] for dotted, (layer, plain) in split.where.items()
+            if layer in (None, spec["name"])}
+    if not keys:
+        return None
+    top = {k: v for k, v in split.top.items() if k != "rank_correlations"}
+    return {**top, **keys}
+
+
+def stack_uncertain(split, layers):
+    """The stack's checked ``[uncertain]`` spec over its own key names (the shape
+    :func:`rockcem._uncertain_keys.validate_uncertain` gives a plain scene's), from its layers'
+    checked specs; empty without ``[uncertain]``."""
+    if split is None:
+        return {}
+    from ._uncertain_keys import _check_correlations     # the check of a plain scene's
+
+    specs = {layer.name: layer.scenes[next(iter(layer.scenes))].uncertain for layer in layers}
+    first = next(s for s in specs.values() if s)
+    keys = {}
+    for dotted, (layer, plain) in split.where.items():
+        source = specs[layer] if layer is not None else first
+        keys[dotted] = source["keys"][plain]
+    names = list(keys)
+    C = _check_correlations(split.top.get("rank_correlations"), names)
+    if C is not None and first["samples"] <= len(names) + 1:
+        _fail(f"scene key uncertain.samples = {first['samples']}: rank correlations between "
+              f"{len(names)} inputs need more than {len(names) + 1} members")
+    return {**{k: first[k] for k in ("samples", "seed", "design", "quantiles", "members")},
+            "keys": keys, "correlation": None if C is None else C.tolist(),
+            "sensitivity": False}
