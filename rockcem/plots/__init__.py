@@ -17,15 +17,16 @@ from __future__ import annotations
 
 from ._save import figure_path, save_figure
 from ._style import MAX_MEMBERS, MODEL_LABELS
-from .avo import (avo_class_depth, intercept_gradient_crossplot, reflectivity_angle,
-                  synthetic_section)
+from .avo import (avo_class_depth, avo_class_probability, intercept_gradient_crossplot,
+                  reflectivity_angle, synthetic_section)
 from .depth import depth_trends
 from .md_study import md_study_velocity, velocity_error
 from .sensitivity import sobol_tornado
 from .templates import rock_physics_template, velocity_porosity
 from .wells import fit_figure, well_overlay, well_template
 
-__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_trends", "figure_path",
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "avo_class_probability",
+           "depth_trends", "figure_path",
            "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
            "reflectivity_angle", "rock_physics_template", "save_figure", "sobol_tornado",
            "synthetic_section",
