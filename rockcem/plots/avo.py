@@ -341,7 +341,7 @@ def avo_class_probability(ds, *, interface=None, model=None, fig=None):
     model : str or sequence of str, optional
         The models to draw (``"patchy_cement"``); default all, a row each.
     fig : matplotlib.figure.Figure, optional
-        Empty figure to draw in; default a new one sized for the panels.
+        An empty figure to draw in (default: a new one, sized for the panels).
 
     Returns
     -------
