@@ -326,7 +326,8 @@ def _add_seismic_quantiles(ds, scene, seismic, q, angle_attrs, angles_of, attrs_
         "long_name": "AVO class (Rutherford & Williams 1989; Ross & Kinman 1995; Castagna & "
                      "Swan 1997); none: no class, or no rock on one side"})
     ds.coords["avo_class_code"] = ("avo_class", np.array(codes_of, dtype=np.int8), {
-        "long_name": "code of the AVO class (rockcem.reflectivity.AVO_CLASS_CODES; 0 none)"})
+        "long_name": "code of the AVO class (rockcem.reflectivity.AVO_CLASS_CODES; 0 none)",
+        "units": "1"})
     ds["avo_class_probability"] = xr.Variable(("avo_class",) + dims, fraction, attrs={
         "units": "1",
         "long_name": "fraction of the members in the AVO class",
