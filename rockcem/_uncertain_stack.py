@@ -24,9 +24,10 @@ own keys named by the layer, ``"layers.<layer>.<section>.<key>"``::
     lower = 2.5
     upper = 3.5
 
-Checks (:mod:`rockcem._scene_stack`, when the scene is loaded). Each layer's scene gets an ``[uncertain]`` of its own: the shared keys and its keys
-with the layer's prefix removed (``"sandstone.grain_size"``), with the section's ``samples``,
-``seed``, ``design`` and ``quantiles``; it is checked there as a plain scene's is
+Checks (:mod:`rockcem._scene_stack`, when the scene is loaded). Each layer's scene gets an
+``[uncertain]`` of its own: the shared keys and its keys with the layer's prefix removed
+(``"sandstone.grain_size"``), with the section's ``samples``, ``seed``, ``design`` and
+``quantiles``; it is checked there as a plain scene's is
 (:func:`rockcem._uncertain_keys.validate_uncertain`: the key's valid range on that layer, the
 distribution's share outside it, a key both set by the layer and uncertain). A key the layer's
 referenced ``scene`` sets is replaced by its distribution. ``rank_correlations`` are checked
