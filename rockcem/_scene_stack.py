@@ -71,8 +71,9 @@ The MD backend
     fluid members share them (the MD frame does not depend on the fluid), so it runs once.
 
 Uncertain inputs
-    ``[uncertain]`` takes the stack's ``path.*`` and ``pressure.*`` keys and each layer's keys
-    as ``"layers.<name>.<section>.<key>"`` (``"layers.reservoir.sandstone.grain_size"``,
+    ``[uncertain]`` takes the stack's ``path.*``, ``pressure.*`` and ``fluid.*`` keys (a fluid
+    key in the layers and fluids that use it) and each layer's keys as
+    ``"layers.<name>.<section>.<key>"`` (``"layers.reservoir.sandstone.grain_size"``,
     ``"layers.seal.models.hs_gassmann.A"``); :mod:`rockcem._uncertain_stack` checks them (each
     layer's scene checks its own, as a plain scene's ``[uncertain]``) and runs the members.
 
@@ -188,8 +189,11 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
                   "its fluid at every depth (the interface is swept along depth)")
     fluid = _section("fluid", given_fluid, SCHEMA["fluid"])
     carbons = [f for f in fluids if f != "brine"]
-    _check_stack_fluid(given_fluid, fluid, fluids)
-    _check_fluid(given_fluid, fluid, {"fluid.hydrocarbon": carbons or ["none"]}, True)
+    split = split_uncertain(raw)
+    sampled = split.fluid_keys() if split else []       # uncertain [fluid] keys: given
+    _check_stack_fluid({**given_fluid, **dict.fromkeys(sampled)}, fluid, fluids)
+    _check_fluid(given_fluid, fluid, {"fluid.hydrocarbon": carbons or ["none"],
+                                      **{f"fluid.{k}": [None] for k in sampled}}, True)
 
     layers_raw = raw["layers"]
     if not isinstance(layers_raw, list) or not all(isinstance(t, dict) for t in layers_raw):
@@ -198,7 +202,6 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     if len(layers_raw) < 2:
         _fail(f"a stack needs at least two layers ([[layers]], top to bottom); got "
               f"{len(layers_raw)} (one lithology is a plain scene: lithology = ...)")
-    split = split_uncertain(raw)
     specs = [_layer_spec(i, t, base_dir, split.layer_keys(t.get("name")) if split else ())
              for i, t in enumerate(layers_raw)]
     names = [s["name"] for s in specs]
@@ -221,9 +224,8 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     layers = []
     for spec in specs:
         members = fluids if spec["name"] == reservoir else ["brine"]
-        uncertain = layer_uncertain(split, spec)
         scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults,
-                                  uncertain)
+                                  layer_uncertain(split, spec, f))
                   for f in members}
         layers.append(StackLayer(spec["name"], spec["lithology"], spec["thickness"],
                                  spec["stand_in"], scenes))
@@ -231,6 +233,10 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     first = layers[0].scenes[next(iter(layers[0].scenes))]
     outputs = tuple(dict.fromkeys(o for layer in layers for s in layer.scenes.values()
                                   for o in s.outputs))
+    for key in sampled:                 # the nominal value (the median) of an uncertain key
+        fluid[key] = next(sub.sections["fluid"][key] for layer in layers
+                          for sub in layer.scenes.values() if f"fluid.{key}" in
+                          sub.uncertain.get("keys", {}))
     sections = {"path": first.sections["path"], "pressure": first.sections["pressure"],
                 "fluid": fluid, "stack": stack}
     if "seismic" in raw:                # reflectivity, AVO and synthetics only when asked
@@ -521,6 +527,12 @@ class StackUncertain:
         """The plain keys uncertain in layer ``name`` (its own, not the shared ones)."""
         return {plain for layer, plain in self.where.values() if layer == name}
 
+    def fluid_keys(self):
+        """The uncertain ``[fluid]`` keys (``saturation``), shared by the layers they apply
+        to."""
+        return [plain.partition(".")[2] for layer, plain in self.where.values()
+                if layer is None and plain.startswith("fluid.")]
+
 
 def split_uncertain(raw):
     """The ``[uncertain]`` table of a stack scene ``raw`` split by layer, checked for what
@@ -532,7 +544,8 @@ def split_uncertain(raw):
         return None
     if not isinstance(table, dict):
         _fail("scene section [uncertain] must be a table")
-    names = [t.get("name") for t in raw["layers"] if isinstance(t.get("name"), str)]
+    names = [t.get("name") for t in raw["layers"] if isinstance(t, dict)
+             and isinstance(t.get("name"), str)] if isinstance(raw["layers"], list) else []
     example = f"layers.{names[-1] if names else 'reservoir'}.sandstone.grain_size"
     top, keys, where = {}, {}, {}
     for dotted, entry in table.items():
@@ -563,13 +576,15 @@ def split_uncertain(raw):
                 _fail(f"uncertain key {dotted!r}: name the layer's key as "
                       f"layers.{layer}.<section>.<key> (e.g. {example!r})")
             where[dotted] = (layer, plain)
-        elif section == "fluid":
-            _fail(f"uncertain key {dotted!r}: a stack's [fluid] keys are not sampled yet (the "
-                  "fluid is shared by every layer and fluid member); sample them in a plain "
-                  "scene")
+        elif section == "fluid" and "." not in key:
+            given = raw.get("fluid", {})
+            if isinstance(given, dict) and key in given:
+                _fail(f"scene key {dotted} is both set ({given[key]!r}) and uncertain; remove "
+                      "one of them")
+            where[dotted] = (None, dotted)
         else:
             _fail(f"uncertain key {dotted!r} does not name a key of a stack: the shared "
-                  f"path.<key> and pressure.<key>, or a layer's as "
+                  f"path.<key>, pressure.<key> and fluid.<key>, or a layer's as "
                   f"layers.<layer>.<section>.<key> (e.g. {example!r})")
         keys[dotted] = entry
     if not keys:
@@ -578,17 +593,28 @@ def split_uncertain(raw):
     return StackUncertain(top, keys, where)
 
 
-def layer_uncertain(split, spec):
-    """The ``[uncertain]`` table of the layer of ``spec`` (plain key names) or None where no
-    key applies to it; a layer with the MD backend is refused by name."""
+def layer_uncertain(split, spec, member):
+    """The ``[uncertain]`` table of the layer of ``spec`` holding pore fluid ``member``
+    (plain key names: the shared ``path``, ``pressure`` and those ``[fluid]`` keys the member's
+    fluid uses, and the layer's own), or None where no key applies to it; a layer with the MD
+    backend is refused by name."""
     if split is None:
         return None
     if "md" in spec["sections"]["models"]:
         _fail(f"scene section [uncertain] does not apply to a stack whose layer "
               f"{spec['name']!r} runs the MD backend ([layers.models.md]): an MD member takes "
               "minutes, 10^3 members days; remove [uncertain] or that layer's MD model")
+    from .scene import _FLUID_KEY_USE
+
+    def applies(plain):
+        section, _, key = plain.partition(".")
+        if section != "fluid" or key == "salinity":
+            return True
+        selector, uses = _FLUID_KEY_USE[key]    # the hydrocarbon's keys (or its mixing's)
+        return member != "brine" and (selector != "hydrocarbon" or member in uses)
+
     keys = {plain: split.keys[dotted] for dotted, (layer, plain) in split.where.items()
-            if layer in (None, spec["name"])}
+            if layer in (None, spec["name"]) and applies(plain)}
     if not keys:
         return None
     top = {k: v for k, v in split.top.items() if k != "rank_correlations"}
@@ -603,12 +629,13 @@ def stack_uncertain(split, layers):
         return {}
     from ._uncertain_keys import _check_correlations     # the check of a plain scene's
 
-    specs = {layer.name: layer.scenes[next(iter(layer.scenes))].uncertain for layer in layers}
-    first = next(s for s in specs.values() if s)
+    specs = [(layer.name, sub.uncertain) for layer in layers for sub in layer.scenes.values()
+             if sub.uncertain]
+    first = specs[0][1]
     keys = {}
     for dotted, (layer, plain) in split.where.items():
-        source = specs[layer] if layer is not None else first
-        keys[dotted] = source["keys"][plain]
+        keys[dotted] = next(spec["keys"][plain] for name, spec in specs
+                            if layer in (None, name) and plain in spec["keys"])
     names = list(keys)
     C = _check_correlations(split.top.get("rank_correlations"), names)
     if C is not None and first["samples"] <= len(names) + 1:

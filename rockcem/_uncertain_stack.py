@@ -2,8 +2,11 @@
 
 Private to the scene loader and runner. A stack's ``[uncertain]`` takes, as a plain scene's
 does (``docs/user_guide/scenes.md``, "Uncertain inputs"), numeric keys as distributions: the
-stack's shared ``path.*`` and ``pressure.*`` keys, named as in a plain scene, and each layer's
-own keys named by the layer, ``"layers.<layer>.<section>.<key>"``::
+stack's shared ``path.*``, ``pressure.*`` and ``fluid.*`` keys, named as in a plain scene,
+and each layer's own keys named by the layer, ``"layers.<layer>.<section>.<key>"``. A
+``[fluid]`` key goes to the layers and fluids that use it: ``fluid.salinity`` to every layer's
+brine, the hydrocarbon's keys (``fluid.saturation``, ``fluid.gas_gravity``, ...) to the
+reservoir's members with that hydrocarbon::
 
     [uncertain]
     samples = 200
@@ -47,8 +50,8 @@ reflectivity quantities as quantiles of the members along ``quantile``, as a pla
 scene's, and ``avo_class_probability``: the fraction of the members in each AVO class per
 interface, fluid, model and depth along ``avo_class``.
 
-Not in an uncertain stack (refused by name): a layer with the MD backend, ``fluid.*`` keys,
-``members = true`` and ``sensitivity = true``. No synthetic seismogram is made (it is not
+Not in an uncertain stack (refused by name): a layer with the MD backend, ``members = true``
+and ``sensitivity = true``. No synthetic seismogram is made (it is not
 pointwise in depth: a quantile trace would be no member's trace).
 """
 
@@ -124,8 +127,9 @@ def stack_chunk(scene, values):
         for member, sub in layer.scenes.items():
             with prefixed_errors(f"layer {layer.name!r}"
                                  + (f" with {member}" if member != "brine" else "")):
-                layers[layer.name, member] = evaluate_chunk(sub, shares[layer.name]) \
-                    if sub.uncertain else _fixed(sub, m)
+                own = {k: v for k, v in shares[layer.name].items()
+                       if k in sub.uncertain.get("keys", {})}
+                layers[layer.name, member] = evaluate_chunk(sub, own) if own else _fixed(sub, m)
     seismic = {}
     if "seismic" in scene.sections:
         sides = side_arrays(scene, {key: {n: data[n][1] for n in ("vp", "vs", "density")}

@@ -184,7 +184,10 @@ def test_layer_quantiles_equal_the_plain_uncertain_scene():
      "layer 'reservoir'.*sandstone.grain_size is both set"),
     (lambda r: r["uncertain"].update({"fluid.salinity": {"distribution": "uniform",
                                                          "lower": 0.0, "upper": 0.1}}),
-     "fluid.salinity.*not sampled yet"),
+     "fluid.salinity does not apply to fluid.model = 'constant'"),
+    (lambda r: r["uncertain"].update({"fluid.gas_gravity": {"distribution": "uniform",
+                                                            "lower": 0.6, "upper": 0.8}}),
+     "fluid.gas_gravity does not apply to stack.fluids = \\['brine'\\]"),
     (lambda r: r["uncertain"].update({"sandstone.grain_size": r["uncertain"].pop(
         "layers.reservoir.sandstone.grain_size")}),
      "as layers.<layer>.<section>.<key>"),
@@ -230,3 +233,30 @@ def test_members_on_dask_equal_the_serial_run(monkeypatch):
         on_dask = run_scene(scene, scheduler="local")
     for name in ("vp", "porosity", "avo_intercept", "reflectivity_pp", "avo_class_probability"):
         np.testing.assert_array_equal(serial[name].values, on_dask[name].values, err_msg=name)
+
+
+def test_an_uncertain_saturation_moves_the_gas_sand_only():
+    """fluid.saturation goes to the reservoir's gas member only: the seal and the brine sand
+    are one value at every quantile (their runs are the deterministic ones), the gas sand's vp
+    spreads; the gas interface's classes take more than one value somewhere, the brine's do
+    not."""
+    raw = _stack({"samples": 30, "seed": 2,
+                  "fluid.saturation": {"distribution": "uniform", "lower": 0.05,
+                                       "upper": 0.95}})
+    raw["stack"]["fluids"] = ["brine", "gas"]
+    raw["fluid"] = {"model": "batzle_wang", "salinity": 0.05, "gas_gravity": 0.6}
+    fixed = _run({k: v for k, v in raw.items() if k != "uncertain"} | {
+        "fluid": {**raw["fluid"], "saturation": 0.5}})
+    ds = _run(raw)
+    assert ds.attrs["pore_fluid"].count("saturation 0.5") == 1          # the median
+    vp = ds["vp"].sel(model="hs_gassmann")
+    for layer, fluid in (("seal", "brine"), ("seal", "gas"), ("reservoir", "brine")):
+        one = vp.sel(layer=layer, fluid=fluid).values
+        np.testing.assert_array_equal(one, np.broadcast_to(one[0], one.shape))
+        np.testing.assert_array_equal(
+            one[0], fixed["vp"].sel(model="hs_gassmann", layer=layer, fluid=fluid).values)
+    gas = vp.sel(layer="reservoir", fluid="gas")
+    assert (gas.sel(quantile=0.9) - gas.sel(quantile=0.1)).max() > 0.01     # km/s
+    p = ds["avo_class_probability"].isel(interface=0, model=0)
+    assert ((p.sel(fluid="brine") == 1.0).sum("avo_class") == 1).all()
+    assert ((p.sel(fluid="gas") > 0) & (p.sel(fluid="gas") < 1)).any()
