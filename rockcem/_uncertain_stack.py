@@ -260,7 +260,7 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
     N = spec["samples"]
     q = np.asarray(spec["quantiles"])
     layers, seismic = _run_chunks(scene, values, scheduler, progress)
-    depth = _depth(scene.layers[0].scenes[next(iter(scene.layers[0].scenes))])
+    axis = _depth_coords(scene.layers[0].scenes[next(iter(scene.layers[0].scenes))])
     per_quantile = []
     for i in range(q.size):
         runs = {}
@@ -271,7 +271,7 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
                 lines = _merge_member_warnings(warnings, N)
                 if lines:
                     attrs["validity_warnings"] = "\n".join(lines)
-                coords = {"depth": ("depth", depth)}
+                coords = dict(axis)
                 if any("model" in dims for dims, _a in data.values()):
                     coords["model"] = ("model", np.array(sub.models, dtype=object))
                 runs[layer.name, member] = xr.Dataset(
@@ -301,12 +301,16 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
     return no_coordinate_fill(ds)
 
 
-def _depth(sub):
-    """The depth axis of a layer's scene (the same for every member)."""
+def _depth_coords(sub):
+    """The depth axis of a layer's scene (the same for every member), and the horizons' names
+    along it for a table of horizons."""
     from .runner import _Pipeline
 
     pipe = _Pipeline(sub)
-    return pipe.now(pipe.path.depth)
+    coords = {"depth": ("depth", pipe.now(pipe.path.depth))}
+    if sub.sections["path"]["kind"] == "horizons":
+        coords["horizon"] = ("depth", pipe.history.horizon.astype(object))
+    return coords
 
 
 def _add_seismic_quantiles(ds, scene, seismic, q, angle_attrs, angles_of, attrs_of):

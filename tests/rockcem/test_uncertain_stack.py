@@ -260,3 +260,18 @@ def test_an_uncertain_saturation_moves_the_gas_sand_only():
     p = ds["avo_class_probability"].isel(interface=0, model=0)
     assert ((p.sel(fluid="brine") == 1.0).sum("avo_class") == 1).all()
     assert ((p.sel(fluid="gas") > 0) & (p.sel(fluid="gas") < 1)).any()
+
+
+def test_a_table_of_horizons_keeps_its_horizon_names():
+    """On a table of horizon histories the uncertain stack keeps the depth axis and the
+    horizons' names of the deterministic stack."""
+    from rockcem._data import data_path
+
+    raw = _stack({"samples": 6, "layers.reservoir.sandstone.grain_size": {
+        "distribution": "uniform", "lower": 0.2, "upper": 0.4}})
+    raw["path"] = {"kind": "horizons",
+                   "table": str(data_path() / "wells" / "synthetic_basin_history.csv")}
+    fixed = _run({k: v for k, v in raw.items() if k != "uncertain"})
+    ds = _run(raw)
+    np.testing.assert_array_equal(ds["depth"].values, fixed["depth"].values)
+    assert ds["horizon"].values.tolist() == fixed["horizon"].values.tolist()
