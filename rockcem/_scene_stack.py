@@ -506,8 +506,6 @@ def _pair_models(specs, layers):
 # ----------------------------------------------------------------------------- uncertain
 _SHARED = ("path", "pressure")
 _NOT_IN_STACK = {
-    "members": "keeping every member is not done for a stack yet (its quantiles and AVO class "
-               "probabilities are); run a layer as a plain scene to keep its members",
     "sensitivity": "Sobol' indices are not computed for a stack yet; run a layer as a plain "
                    "scene with sensitivity = true",
 }

@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["InterfaceProperties", "evaluate_stack", "interface_properties", "join_layers",
-           "side_arrays"]
+           "joined", "side_arrays"]
 
 #: Variables that change with the reservoir's pore fluid (the ``fluid`` dimension).
 _FLUID_VARIABLES = ("K_sat", "G_sat", "vp", "vs", "density", "fluid_density",
@@ -84,7 +84,7 @@ def join_layers(scene, runs):
     variables = list(dict.fromkeys(v for ds in runs.values() for v in ds.data_vars))
     data = {}
     for name in variables:
-        data[name] = _joined(name, scene.layers, fluids, models, member_ds, depth.size)
+        data[name] = joined(name, scene.layers, fluids, models, member_ds)
     model_of = np.array([[m if m in layer.scenes[next(iter(layer.scenes))].models
                           else layer.stand_in for m in models] for layer in scene.layers],
                         dtype=object)
@@ -107,9 +107,12 @@ def join_layers(scene, runs):
     return ds
 
 
-def _joined(name, layers, fluids, models, member_ds, n_depth):
+def joined(name, layers, fluids, models, member_ds):
     """One variable of every layer: dims (layer[, fluid][, model], depth), NaN where a layer
-    does not have it (a shale's cement) or the model."""
+    does not have it (a shale's cement) or the model. ``member_ds(layer, fluid)`` gives the
+    layer's Dataset for the fluid; a variable of it with dims ``[model,] ...`` (``depth``, or
+    ``member, depth`` for the members of an uncertain stack) keeps the dims after ``model``
+    (``tail``) as they are."""
     per_model = any("model" in member_ds(la, f)[name].dims for la in layers for f in fluids
                     if name in member_ds(la, f))
     by_fluid = name in _FLUID_VARIABLES or any(
@@ -124,8 +127,9 @@ def _joined(name, layers, fluids, models, member_ds, n_depth):
         not per_model or all(v.sizes.get("model") == len(models) for v in present))
     if not complete or dtype.kind not in "iub":
         dtype = np.result_type(dtype, np.float64)
+    tail = tuple(d for d in present[0].dims if d != "model")
     shape = (len(layers),) + ((len(fluids),) if by_fluid else ()) + \
-        ((len(models),) if per_model else ()) + (n_depth,)
+        ((len(models),) if per_model else ()) + tuple(present[0].sizes[d] for d in tail)
     out = np.full(shape, np.nan if dtype.kind == "f" else 0, dtype=dtype)
     for i, la in enumerate(layers):
         for j, f in enumerate(fluids if by_fluid else fluids[:1]):
@@ -136,11 +140,11 @@ def _joined(name, layers, fluids, models, member_ds, n_depth):
             if per_model:
                 for k, m in enumerate(models):
                     if m in ds["model"].values:
-                        target[k] = ds[name].sel(model=m).values
+                        target[k] = ds[name].sel(model=m).transpose(*tail).values
             else:
-                target[...] = ds[name].values
+                target[...] = ds[name].transpose(*tail).values
     dims = ("layer",) + (("fluid",) if by_fluid else ()) + (("model",) if per_model else ()) \
-        + ("depth",)
+        + tail
     return dims, out
 
 

@@ -50,8 +50,12 @@ reflectivity quantities as quantiles of the members along ``quantile``, as a pla
 scene's, and ``avo_class_probability``: the fraction of the members in each AVO class per
 interface, fluid, model and depth along ``avo_class``.
 
-Not in an uncertain stack (refused by name): a layer with the MD backend, ``members = true``
-and ``sensitivity = true``. No synthetic seismogram is made (it is not
+With ``members = true`` every member is kept too, as ``<name>_members`` (dimension ``member``
+first; ``avo_class_members`` the class codes), with the sampled inputs as ``member``
+coordinates.
+
+Not in an uncertain stack (refused by name): a layer with the MD backend and
+``sensitivity = true``. No synthetic seismogram is made (it is not
 pointwise in depth: a quantile trace would be no member's trace).
 """
 
@@ -222,7 +226,9 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
     angle. ``avo_class_probability`` (``avo_class, interface, fluid, model, depth``) is the
     fraction of the members in each class of :data:`CLASS_LABELS`: the classes of
     :func:`rockcem.reflectivity.avo_class` (Rutherford & Williams 1989; Ross & Kinman 1995;
-    Castagna & Swan 1997) and ``none``; the fractions of each depth add up to one.
+    Castagna & Swan 1997) and ``none``; the fractions of each depth add up to one. With
+    ``members = true`` every member too, as ``<name>_members`` (``member`` first), and the
+    sampled inputs as ``member`` coordinates (:func:`_member_names`).
 
     Parameters
     ----------
@@ -250,8 +256,8 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
 
     from ._stack_dataset import join_layers
     from ._stack_seismic import ANGLE_ATTRS, _angles, _cite, seismic_attrs
-    from ._uncertain import (QUANTILE_ATTRS, _merge_member_warnings, _uncertain_attrs,
-                             member_names, sample_inputs)
+    from ._uncertain import (QUANTILE_ATTRS, _input_attrs, _merge_member_warnings,
+                             _uncertain_attrs, sample_inputs)
     from .runner import _global_attrs
     from .variables import no_coordinate_fill
 
@@ -291,14 +297,80 @@ def evaluate_uncertain_stack(scene, *, scheduler=None, progress=False):
         ds[name] = xr.Variable(("quantile",) + var.dims, stacked, attrs=attrs)
     ds.coords["quantile"] = ("quantile", q, dict(QUANTILE_ATTRS))
     if seismic:
-        _add_seismic_quantiles(ds, scene, seismic, q, ANGLE_ATTRS, _angles, seismic_attrs)
+        _add_seismic_quantiles(ds, scene, dict(seismic), q, ANGLE_ATTRS, _angles,
+                               seismic_attrs)
         _cite(ds, ["AvsethLehocki2016", "Zoeppritz1919", "AkiRichards1980", "Shuey1985",
                    "RutherfordWilliams1989", "RossKinman1995", "CastagnaSwan1997"])
-    ds.attrs.update(_uncertain_attrs(scene, member_names(scene)))
+    names = _member_names(scene, ds)
+    if spec["members"]:
+        _add_members(ds, scene, layers, seismic, axis)
+        ds.coords["member"] = ("member", np.arange(N), {
+            "long_name": "member of the uncertain inputs"})
+        for dotted, name in names.items():
+            ds.coords[name] = ("member", values[dotted],
+                               _input_attrs(dotted, spec["keys"][dotted]))
+    ds.attrs.update(_uncertain_attrs(scene, names))
     ds.attrs["uncertain"] += ("; one draw of every key per member, shared by every layer and "
                               "every fluid of the reservoir; no synthetic seismogram")
     ds.attrs["uncertain_json"] = json.dumps(spec, sort_keys=True)
     return no_coordinate_fill(ds)
+
+
+def _member_names(scene, ds):
+    """The ``member`` coordinate name of each uncertain key: the key (``grain_size``); where
+    two keys share it, or a variable of ``ds`` has it, the layer's name and the key's
+    section before it (``seal_hs_gassmann_A``; ``fluid_saturation``)."""
+    keys = list(scene.uncertain["keys"])
+    short = [k.rpartition(".")[2] for k in keys]
+    out = {}
+    for dotted, name in zip(keys, short):
+        if short.count(name) > 1 or name in ds.variables or name in ("member", "quantile"):
+            parts = dotted.split(".")
+            name = "_".join(p for p in parts[1:] if p != "models") if parts[0] == "layers" \
+                else "_".join(parts)
+        out[dotted] = name
+    return out
+
+
+def _add_members(ds, scene, layers, seismic, axis):
+    """Every member as ``<name>_members`` (dimension ``member`` first): the layers' variables
+    joined as :func:`rockcem._stack_dataset.join_layers` joins one run, and the reflectivity
+    of :func:`rockcem._stack_seismic.reflect` (``avo_class_members`` with its CF flags)."""
+    import xarray as xr
+
+    from ._stack_dataset import joined
+    from ._stack_seismic import seismic_attrs
+
+    fluids, models = list(scene.sections["stack"]["fluids"]), list(scene.models)
+    runs = {}
+    for layer in scene.layers:
+        for member, sub in layer.scenes.items():
+            data, _warnings = layers[layer.name, member]
+            coords = dict(axis)
+            if any("model" in dims for dims, _a in data.values()):
+                coords["model"] = ("model", np.array(sub.models, dtype=object))
+            runs[layer.name, member] = xr.Dataset(
+                {name: (("member",) + dims, a) for name, (dims, a) in data.items()},
+                coords=coords)
+
+    def member_ds(layer, fluid):
+        return runs[layer.name, fluid if fluid in layer.scenes else "brine"]
+
+    for name in dict.fromkeys(v for run in runs.values() for v in run.data_vars):
+        dims, a = joined(name, scene.layers, fluids, models, member_ds)
+        at = dims.index("member")
+        attrs = {**ds[name].attrs, "cell_methods": "member: point"}
+        ds[f"{name}_members"] = xr.Variable(
+            ("member",) + dims[:at] + dims[at + 1:], np.moveaxis(a, at, 0), attrs=attrs)
+    if not seismic:
+        return
+    attrs = seismic_attrs(seismic["missing"], scene.sections["seismic"]["class_threshold"])
+    dims = ("member", "interface", "fluid", "model", "depth")
+    for name, a in seismic.items():
+        if name != "missing":
+            ds[f"{name}_members"] = xr.Variable(dims + (("angle",) if a.ndim > 5 else ()), a,
+                                                attrs={**attrs[name],
+                                                       "cell_methods": "member: point"})
 
 
 def _depth_coords(sub):

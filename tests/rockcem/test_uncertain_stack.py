@@ -191,8 +191,6 @@ def test_layer_quantiles_equal_the_plain_uncertain_scene():
     (lambda r: r["uncertain"].update({"sandstone.grain_size": r["uncertain"].pop(
         "layers.reservoir.sandstone.grain_size")}),
      "as layers.<layer>.<section>.<key>"),
-    (lambda r: r["uncertain"].update(members=True), "uncertain.members does not apply to a "
-                                                    "stack"),
     (lambda r: r["uncertain"].update(sensitivity=True), "uncertain.sensitivity does not apply"),
     (lambda r: r["uncertain"].update(samples=1), "layer 'seal'.*uncertain.samples must be"),
 ])
@@ -275,3 +273,30 @@ def test_a_table_of_horizons_keeps_its_horizon_names():
     ds = _run(raw)
     np.testing.assert_array_equal(ds["depth"].values, fixed["depth"].values)
     assert ds["horizon"].values.tolist() == fixed["horizon"].values.tolist()
+
+
+def test_kept_members_are_the_deterministic_stacks_of_their_inputs():
+    """members = true: member i's layers and reflectivity are those of the deterministic stack
+    run with member i's sampled inputs (its member coordinates); the seal's and the
+    reservoir's Krief exponents share a name, told apart by layer."""
+    a = {"distribution": "uniform", "lower": 2.5, "upper": 3.5}
+    raw = _stack({"samples": 5, "seed": 9, "members": True, "path.gradient": {
+        "distribution": "normal", "mean": 30.0, "sd": 2.0},
+        "layers.seal.models.hs_gassmann.A": a, "layers.reservoir.models.hs_gassmann.A": a},
+        reservoir_models={"hs_gassmann": {}})
+    raw["layers"][0]["models"]["hs_gassmann"] = {}
+    ds = _run(raw)
+    assert ds["vp_members"].dims == ("member", "layer", "fluid", "model", "depth")
+    assert ds["avo_class_members"].attrs["flag_meanings"] == " ".join(AVO_CLASSES)
+    for i in (0, 3):
+        one = copy.deepcopy({k: v for k, v in raw.items() if k != "uncertain"})
+        one["path"]["gradient"] = float(ds["gradient"][i])
+        one["layers"][0]["models"]["hs_gassmann"]["A"] = float(ds["seal_hs_gassmann_A"][i])
+        one["layers"][1]["models"]["hs_gassmann"]["A"] = float(
+            ds["reservoir_hs_gassmann_A"][i])
+        fixed = _run(one)
+        member = ds.isel(member=i)
+        for name in ("vp", "vs", "porosity", "avo_intercept", "avo_gradient",
+                     "reflectivity_pp", "avo_class"):
+            np.testing.assert_allclose(member[f"{name}_members"].values, fixed[name].values,
+                                       rtol=1e-12, err_msg=name)
