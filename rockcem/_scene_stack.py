@@ -70,6 +70,13 @@ The MD backend
     elsewhere. Its stage files lie in ``<stack output stem>_<layer>_md_work``; the reservoir's
     fluid members share them (the MD frame does not depend on the fluid), so it runs once.
 
+Uncertain inputs
+    ``[uncertain]`` takes the stack's ``path.*``, ``pressure.*`` and ``fluid.*`` keys (a fluid
+    key in the layers and fluids that use it) and each layer's keys as
+    ``"layers.<name>.<section>.<key>"`` (``"layers.reservoir.sandstone.grain_size"``,
+    ``"layers.seal.models.hs_gassmann.A"``); :mod:`rockcem._uncertain_stack` checks them (each
+    layer's scene checks its own, as a plain scene's ``[uncertain]``) and runs the members.
+
 Not in a stack (refused with a message): ``[sweep]`` and a scene calibration.
 
 This module reads and checks the keys; :mod:`rockcem._stack_dataset` evaluates the layers and
@@ -78,6 +85,7 @@ builds the Dataset.
 
 from __future__ import annotations
 
+import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -85,13 +93,13 @@ from pathlib import Path
 import numpy as np
 
 
-__all__ = ["STACK_FLUIDS", "StackLayer", "stack_scene_from_dict"]
+__all__ = ["STACK_FLUIDS", "StackLayer", "StackUncertain", "stack_scene_from_dict"]
 
 #: The pore fluids a stack's reservoir may hold (``[stack] fluids``).
 STACK_FLUIDS = ("brine", "gas", "oil", "co2", "methane")
 _LAYER_NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 _HEAD = ("name", "description", "output")
-_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "seismic", "layers")
+_TOP = _HEAD + ("path", "pressure", "fluid", "stack", "seismic", "layers", "uncertain")
 #: Keys of a plain scene that a stack does not take at its top level, and why.
 _NOT_AT_TOP = {
     "lithology": "each layer names its own ([[layers]] lithology or scene)",
@@ -181,8 +189,11 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
                   "its fluid at every depth (the interface is swept along depth)")
     fluid = _section("fluid", given_fluid, SCHEMA["fluid"])
     carbons = [f for f in fluids if f != "brine"]
-    _check_stack_fluid(given_fluid, fluid, fluids)
-    _check_fluid(given_fluid, fluid, {"fluid.hydrocarbon": carbons or ["none"]}, True)
+    split = split_uncertain(raw)
+    sampled = split.fluid_keys() if split else []       # uncertain [fluid] keys: given
+    _check_stack_fluid({**given_fluid, **dict.fromkeys(sampled)}, fluid, fluids)
+    _check_fluid(given_fluid, fluid, {"fluid.hydrocarbon": carbons or ["none"],
+                                      **{f"fluid.{k}": [None] for k in sampled}}, True)
 
     layers_raw = raw["layers"]
     if not isinstance(layers_raw, list) or not all(isinstance(t, dict) for t in layers_raw):
@@ -191,7 +202,8 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     if len(layers_raw) < 2:
         _fail(f"a stack needs at least two layers ([[layers]], top to bottom); got "
               f"{len(layers_raw)} (one lithology is a plain scene: lithology = ...)")
-    specs = [_layer_spec(i, t, base_dir) for i, t in enumerate(layers_raw)]
+    specs = [_layer_spec(i, t, base_dir, split.layer_keys(t.get("name")) if split else ())
+             for i, t in enumerate(layers_raw)]
     names = [s["name"] for s in specs]
     for i, name in enumerate(names):
         if name in names[:i]:
@@ -212,7 +224,8 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     layers = []
     for spec in specs:
         members = fluids if spec["name"] == reservoir else ["brine"]
-        scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults)
+        scenes = {f: _layer_scene(spec, shared, head["name"], given_fluid, f, fluid_defaults,
+                                  layer_uncertain(split, spec, f))
                   for f in members}
         layers.append(StackLayer(spec["name"], spec["lithology"], spec["thickness"],
                                  spec["stand_in"], scenes))
@@ -220,6 +233,10 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     first = layers[0].scenes[next(iter(layers[0].scenes))]
     outputs = tuple(dict.fromkeys(o for layer in layers for s in layer.scenes.values()
                                   for o in s.outputs))
+    for key in sampled:                 # the nominal value (the median) of an uncertain key
+        fluid[key] = next(sub.sections["fluid"][key] for layer in layers
+                          for sub in layer.scenes.values() if f"fluid.{key}" in
+                          sub.uncertain.get("keys", {}))
     sections = {"path": first.sections["path"], "pressure": first.sections["pressure"],
                 "fluid": fluid, "stack": stack}
     if "seismic" in raw:                # reflectivity, AVO and synthetics only when asked
@@ -228,7 +245,7 @@ def stack_scene_from_dict(raw, *, text=None, base_dir=None):
     return Scene(head["name"], "stack", outputs, head["output"] or f"{head['name']}.nc",
                  models, sections, {}, text if text is not None else _to_toml(raw),
                  head["description"], None if base_dir is None else str(base_dir), {},
-                 layers=tuple(layers))
+                 layers=tuple(layers), uncertain=stack_uncertain(split, layers))
 
 
 def _check_stack_fluid(given, fluid, fluids):
@@ -257,8 +274,11 @@ def _default_fluid_outputs(fluid, carbons):
     return _fluid_outputs(fluid, {"fluid.hydrocarbon": carbons or ["none"]})[1]
 
 
-def _layer_spec(i, given, base_dir):
-    """A layer's keys, its referenced scene's sections merged in, checked."""
+def _layer_spec(i, given, base_dir, uncertain=()):
+    """A layer's keys, its referenced scene's sections merged in, checked; the layer's
+    ``uncertain`` keys (``"section.key"``) are dropped from the referenced scene's sections
+    (the distribution replaces the referenced value; one the layer sets itself stays, and its
+    scene refuses it as both set and uncertain)."""
     from .scene import SCHEMA, _section, _suggest
 
     where = f"layers[{i}]"
@@ -293,9 +313,13 @@ def _layer_spec(i, given, base_dir):
         for what, table in ((f"{where}.{sec}", own), (f"section [{sec}] of {keys['scene']}", ref)):
             if not isinstance(table, dict):
                 _fail(f"scene {what} must be a table")
+        ref = {k: v for k, v in ref.items() if f"{sec}.{k}" not in uncertain}
         if own or ref or sec in given:
             sections[sec] = {**ref, **own}
-    sections["models"] = given["models"] if "models" in given else base.get("models", {})
+    sections["models"] = given["models"] if "models" in given else {
+        label: ({k: v for k, v in table.items() if f"models.{label}.{k}" not in uncertain}
+                if isinstance(table, dict) else table)
+        for label, table in base.get("models", {}).items()}
     if not isinstance(sections["models"], dict):
         _fail(f"scene section {where}.models must hold one table per model")
     if not sections["models"]:
@@ -415,9 +439,11 @@ def _check_thickness(specs, path):
                   f"at or below path.max_depth ({deepest:g} m): the last layer holds no depth")
 
 
-def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults):
+def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults,
+                 uncertain=None):
     """The plain scene of a layer with one pore fluid (``member``: 'brine' or a hydrocarbon),
-    on the stack's ``shared`` [path] and [pressure]."""
+    on the stack's ``shared`` [path] and [pressure]; ``uncertain``, the layer's own
+    ``[uncertain]`` table (plain ``"section.key"`` names), if any."""
     from .scene import MODEL_OUTPUTS, STATE_OUTPUTS, scene_from_dict
     from .validation import prefixed_errors
 
@@ -430,6 +456,8 @@ def _layer_scene(spec, shared, stack_name, given_fluid, member, fluid_defaults):
     layer.update(shared)
     if given_fluid or member != "brine":
         layer["fluid"] = _member_fluid(given_fluid, member)
+    if uncertain:
+        layer["uncertain"] = uncertain
     what = f"layer {spec['name']!r}" + (f" with {member}" if member != "brine" else "")
     with prefixed_errors(what):
         return scene_from_dict(layer, base_dir=spec["base_dir"])
@@ -473,3 +501,144 @@ def _pair_models(specs, layers):
             _fail(f"scene key {spec['where']}.stand_in: the layer has every model of the stack "
                   f"({', '.join(union)}), so nothing to stand in for; remove it")
     return union
+
+
+# ----------------------------------------------------------------------------- uncertain
+_SHARED = ("path", "pressure")
+_NOT_IN_STACK = {
+    "sensitivity": "Sobol' indices are not computed for a stack yet; run a layer as a plain "
+                   "scene with sensitivity = true",
+}
+
+
+@dataclass
+class StackUncertain:
+    """A stack's ``[uncertain]`` split: ``top`` (samples, seed, ...), ``keys`` (stack
+    dotted name -> its table, in the order given) and ``where`` (stack dotted name ->
+    ``(layer name or None for a shared key, the plain "section.key")``)."""
+
+    top: dict
+    keys: dict
+    where: dict
+
+    def layer_keys(self, name):
+        """The plain keys uncertain in layer ``name`` (its own, not the shared ones)."""
+        return {plain for layer, plain in self.where.values() if layer == name}
+
+    def fluid_keys(self):
+        """The uncertain ``[fluid]`` keys (``saturation``), shared by the layers they apply
+        to."""
+        return [plain.partition(".")[2] for layer, plain in self.where.values()
+                if layer is None and plain.startswith("fluid.")]
+
+
+def split_uncertain(raw):
+    """The ``[uncertain]`` table of a stack scene ``raw`` split by layer, checked for what
+    belongs to a stack: each key shared (``path.*``, ``pressure.*``, not set in the stack's
+    section) or a layer's (``layers.<layer>.<section>.<key>``, the layer named). None
+    without ``[uncertain]``."""
+    table = raw.get("uncertain")
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        _fail("scene section [uncertain] must be a table")
+    names = [t.get("name") for t in raw["layers"] if isinstance(t, dict)
+             and isinstance(t.get("name"), str)] if isinstance(raw["layers"], list) else []
+    example = f"layers.{names[-1] if names else 'reservoir'}.sandstone.grain_size"
+    top, keys, where = {}, {}, {}
+    for dotted, entry in table.items():
+        if not isinstance(entry, dict):
+            if entry not in (False, None) and dotted in _NOT_IN_STACK:
+                _fail(f"scene key uncertain.{dotted} does not apply to a stack of layers: "
+                      f"{_NOT_IN_STACK[dotted]}")
+            top[dotted] = entry
+            continue
+        section, _, key = dotted.partition(".")
+        if dotted == "layers" or (section == "layers" and "distribution" not in entry):
+            _fail(f"scene section [uncertain.layers...]: quote the key, "
+                  f"[uncertain.\"{example}\"] (a dotted key unquoted is a table in a table)")
+        if section in _SHARED and "." not in key:
+            given = raw.get(section, {})
+            if isinstance(given, dict) and key in given:
+                _fail(f"scene key {dotted} is both set ({given[key]!r}) and uncertain; remove "
+                      "one of them")
+            where[dotted] = (None, dotted)
+        elif section == "layers":
+            layer, _, plain = key.partition(".")
+            if layer not in names:
+                close = difflib.get_close_matches(layer, names, n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else \
+                    f" (layers: {', '.join(names)})"
+                _fail(f"uncertain key {dotted!r}: no layer {layer!r}{hint}")
+            if "." not in plain:
+                _fail(f"uncertain key {dotted!r}: name the layer's key as "
+                      f"layers.{layer}.<section>.<key> (e.g. {example!r})")
+            where[dotted] = (layer, plain)
+        elif section == "fluid" and "." not in key:
+            given = raw.get("fluid", {})
+            if isinstance(given, dict) and key in given:
+                _fail(f"scene key {dotted} is both set ({given[key]!r}) and uncertain; remove "
+                      "one of them")
+            where[dotted] = (None, dotted)
+        else:
+            _fail(f"uncertain key {dotted!r} does not name a key of a stack: the shared "
+                  f"path.<key>, pressure.<key> and fluid.<key>, or a layer's as "
+                  f"layers.<layer>.<section>.<key> (e.g. {example!r})")
+        keys[dotted] = entry
+    if not keys:
+        _fail(f"scene section [uncertain] names no key: add a table such as "
+              f"[uncertain.\"{example}\"] distribution = \"normal\", ...")
+    return StackUncertain(top, keys, where)
+
+
+def layer_uncertain(split, spec, member):
+    """The ``[uncertain]`` table of the layer of ``spec`` holding pore fluid ``member``
+    (plain key names: the shared ``path``, ``pressure`` and those ``[fluid]`` keys the member's
+    fluid uses, and the layer's own), or None where no key applies to it; a layer with the MD
+    backend is refused by name."""
+    if split is None:
+        return None
+    if "md" in spec["sections"]["models"]:
+        _fail(f"scene section [uncertain] does not apply to a stack whose layer "
+              f"{spec['name']!r} runs the MD backend ([layers.models.md]): an MD member takes "
+              "minutes, 10^3 members days; remove [uncertain] or that layer's MD model")
+    from .scene import _FLUID_KEY_USE
+
+    def applies(plain):
+        section, _, key = plain.partition(".")
+        if section != "fluid" or key == "salinity":
+            return True
+        selector, uses = _FLUID_KEY_USE[key]    # the hydrocarbon's keys (or its mixing's)
+        return member != "brine" and (selector != "hydrocarbon" or member in uses)
+
+    keys = {plain: split.keys[dotted] for dotted, (layer, plain) in split.where.items()
+            if layer in (None, spec["name"]) and applies(plain)}
+    if not keys:
+        return None
+    top = {k: v for k, v in split.top.items() if k != "rank_correlations"}
+    return {**top, **keys}
+
+
+def stack_uncertain(split, layers):
+    """The stack's checked ``[uncertain]`` spec over its own key names (the shape
+    :func:`rockcem._uncertain_keys.validate_uncertain` gives a plain scene's), from its layers'
+    checked specs; empty without ``[uncertain]``."""
+    if split is None:
+        return {}
+    from ._uncertain_keys import _check_correlations     # the check of a plain scene's
+
+    specs = [(layer.name, sub.uncertain) for layer in layers for sub in layer.scenes.values()
+             if sub.uncertain]
+    first = specs[0][1]
+    keys = {}
+    for dotted, (layer, plain) in split.where.items():
+        keys[dotted] = next(spec["keys"][plain] for name, spec in specs
+                            if layer in (None, name) and plain in spec["keys"])
+    names = list(keys)
+    C = _check_correlations(split.top.get("rank_correlations"), names)
+    if C is not None and first["samples"] <= len(names) + 1:
+        _fail(f"scene key uncertain.samples = {first['samples']}: rank correlations between "
+              f"{len(names)} inputs need more than {len(names) + 1} members")
+    return {**{k: first[k] for k in ("samples", "seed", "design", "quantiles", "members")},
+            "keys": keys, "correlation": None if C is None else C.tolist(),
+            "sensitivity": False}

@@ -16,7 +16,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["InterfaceProperties", "evaluate_stack", "interface_properties"]
+__all__ = ["InterfaceProperties", "evaluate_stack", "interface_properties", "join_layers",
+           "joined", "side_arrays"]
 
 #: Variables that change with the reservoir's pore fluid (the ``fluid`` dimension).
 _FLUID_VARIABLES = ("K_sat", "G_sat", "vp", "vs", "density", "fluid_density",
@@ -52,8 +53,6 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
     from .runner import evaluate
     from .validation import prefixed_errors
 
-    stack = scene.sections["stack"]
-    fluids = list(stack["fluids"])
     runs = {}
     for layer in scene.layers:
         for member, sub in layer.scenes.items():
@@ -65,6 +64,15 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
                         sub, output=str(out.with_name(f"{out.stem}_{layer.name}{out.suffix}")))
                 runs[layer.name, member] = evaluate(sub, scheduler=scheduler, jobs=jobs,
                                                     progress=progress)
+    return join_layers(scene, runs)
+
+
+def join_layers(scene, runs):
+    """The stack's Dataset from its layers' runs: ``runs`` maps ``(layer name, fluid member)``
+    to the layer's Dataset for that member (its dims ``[model,] depth``); the joined
+    variables, the interfaces, ``model_of_layer`` and, with thicknesses, the column."""
+    stack = scene.sections["stack"]
+    fluids = list(stack["fluids"])
     first = runs[scene.layers[0].name, next(iter(scene.layers[0].scenes))]
     depth = first["depth"].values
     models = list(scene.models)
@@ -76,7 +84,7 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
     variables = list(dict.fromkeys(v for ds in runs.values() for v in ds.data_vars))
     data = {}
     for name in variables:
-        data[name] = _joined(name, scene.layers, fluids, models, member_ds, depth.size)
+        data[name] = joined(name, scene.layers, fluids, models, member_ds)
     model_of = np.array([[m if m in layer.scenes[next(iter(layer.scenes))].models
                           else layer.stand_in for m in models] for layer in scene.layers],
                         dtype=object)
@@ -99,9 +107,12 @@ def evaluate_stack(scene, *, scheduler=None, jobs=1, progress=False):
     return ds
 
 
-def _joined(name, layers, fluids, models, member_ds, n_depth):
+def joined(name, layers, fluids, models, member_ds):
     """One variable of every layer: dims (layer[, fluid][, model], depth), NaN where a layer
-    does not have it (a shale's cement) or the model."""
+    does not have it (a shale's cement) or the model. ``member_ds(layer, fluid)`` gives the
+    layer's Dataset for the fluid; a variable of it with dims ``[model,] ...`` (``depth``, or
+    ``member, depth`` for the members of an uncertain stack) keeps the dims after ``model``
+    (``tail``) as they are."""
     per_model = any("model" in member_ds(la, f)[name].dims for la in layers for f in fluids
                     if name in member_ds(la, f))
     by_fluid = name in _FLUID_VARIABLES or any(
@@ -116,8 +127,9 @@ def _joined(name, layers, fluids, models, member_ds, n_depth):
         not per_model or all(v.sizes.get("model") == len(models) for v in present))
     if not complete or dtype.kind not in "iub":
         dtype = np.result_type(dtype, np.float64)
+    tail = tuple(d for d in present[0].dims if d != "model")
     shape = (len(layers),) + ((len(fluids),) if by_fluid else ()) + \
-        ((len(models),) if per_model else ()) + (n_depth,)
+        ((len(models),) if per_model else ()) + tuple(present[0].sizes[d] for d in tail)
     out = np.full(shape, np.nan if dtype.kind == "f" else 0, dtype=dtype)
     for i, la in enumerate(layers):
         for j, f in enumerate(fluids if by_fluid else fluids[:1]):
@@ -128,11 +140,11 @@ def _joined(name, layers, fluids, models, member_ds, n_depth):
             if per_model:
                 for k, m in enumerate(models):
                     if m in ds["model"].values:
-                        target[k] = ds[name].sel(model=m).values
+                        target[k] = ds[name].sel(model=m).transpose(*tail).values
             else:
-                target[...] = ds[name].values
+                target[...] = ds[name].transpose(*tail).values
     dims = ("layer",) + (("fluid",) if by_fluid else ()) + (("model",) if per_model else ()) \
-        + ("depth",)
+        + tail
     return dims, out
 
 
@@ -224,6 +236,44 @@ def _sides(ds, name):
     models = [str(m) for m in ds["model"].values]
     pick = [[models.index(str(m)) for m in row] for row in ds["model_of_layer"].values]
     return np.stack([values[i][:, row, :] for i, row in enumerate(pick)])
+
+
+def side_arrays(scene, values):
+    """Both sides of every interface of a stack from its layers' raw arrays (the members of an
+    uncertain stack, :mod:`rockcem._uncertain_stack`), as :func:`interface_properties` pairs
+    them from a Dataset.
+
+    Parameters
+    ----------
+    scene : Scene
+        The stack.
+    values : dict
+        ``{(layer name, fluid member): {"vp": ndarray (m, layer models, depth), "vs": ...,
+        "density": ndarray (m, depth)}}``, the layer's models in its scene's order.
+
+    Returns
+    -------
+    list of ndarray
+        ``[vp1, vs1, rho1, vp2, vs2, rho2]``, each (m, interface, fluid, model, depth).
+    """
+    fluids = list(scene.sections["stack"]["fluids"])
+    per_layer = {name: [] for name in ("vp", "vs", "density")}
+    for layer in scene.layers:
+        own = list(layer.scenes[next(iter(layer.scenes))].models)
+        columns = [own.index(m if m in own else layer.stand_in) for m in scene.models]
+        for name in per_layer:
+            rows = []
+            for f in fluids:
+                a = np.asarray(values[layer.name, f if f in layer.scenes else "brine"][name],
+                               dtype=float)
+                rows.append(a[:, columns, :] if a.ndim == 3 else
+                            np.repeat(a[:, None, :], len(columns), axis=1))
+            per_layer[name].append(np.stack(rows, axis=1))          # m, fluid, model, depth
+    out = []
+    for end in (slice(None, -1), slice(1, None)):
+        for name in ("vp", "vs", "density"):
+            out.append(np.stack(per_layer[name][end], axis=1))
+    return out
 
 
 def interface_properties(ds):

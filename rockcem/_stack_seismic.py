@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["add_seismic"]
+__all__ = ["ANGLE_ATTRS", "add_seismic", "reflect", "seismic_attrs"]
 
 _SIDES = ("vp1", "vs1", "rho1", "vp2", "vs2", "rho2")
 
@@ -39,6 +39,81 @@ def _valid(arrays):
     return ok
 
 
+#: Attributes of the ``angle`` coordinate.
+ANGLE_ATTRS = {"units": "degree", "long_name": "angle of incidence"}
+
+
+def reflect(arrays, angles, threshold):
+    """The reflectivity variables of interface samples: both sides ``arrays`` (``vp1, vs1,
+    rho1, vp2, vs2, rho2``, each of one shape S) at ``angles`` (degrees).
+
+    The exact PP coefficient (:func:`rockcem.reflectivity.zoeppritz_pp`: [Zoeppritz1919]_,
+    eq. 5.40 of [AkiRichards1980]_), Shuey's A, B and C of the Aki-Richards linearisation
+    (:func:`rockcem.reflectivity.intercept_gradient`: [Shuey1985]_, eq. 5.44 of
+    [AkiRichards1980]_) and the AVO class (:func:`rockcem.reflectivity.avo_class`); a sample
+    where either side has no rock (:func:`_valid`) gets NaN and class 0.
+
+    Returns
+    -------
+    dict
+        ``reflectivity_pp`` and ``reflectivity_pp_magnitude`` (S + (angle,)),
+        ``avo_intercept``, ``avo_gradient``, ``avo_curvature`` (S), ``avo_class`` (S, int8)
+        and ``missing`` (the count of samples without a rock on one side, and of all).
+    """
+    from .reflectivity import avo_class, intercept_gradient, zoeppritz_pp
+
+    ok = _valid(arrays)
+    picked = [a[ok] for a in arrays]
+    shape = ok.shape
+    r = np.full(shape + (angles.size,), np.nan + 0j)
+    r[ok] = zoeppritz_pp(*(p[:, None] for p in picked), angles[None, :])
+    terms = intercept_gradient(*picked)
+    out = {"reflectivity_pp": r.real, "reflectivity_pp_magnitude": np.abs(r)}
+    for name, values in (("avo_intercept", terms.intercept), ("avo_gradient", terms.gradient),
+                         ("avo_curvature", terms.curvature)):
+        full = np.full(shape, np.nan)
+        full[ok] = values
+        out[name] = full
+    codes = np.zeros(shape, dtype=np.int8)
+    codes[ok] = avo_class(terms.intercept, terms.gradient, threshold=threshold)
+    out["avo_class"] = codes
+    out["missing"] = (int(np.count_nonzero(~ok)), ok.size)
+    return out
+
+
+def seismic_attrs(missing, threshold):
+    """The attributes of the variables of :func:`reflect`; ``missing`` its count of samples
+    without a rock on one side, and of all."""
+    from .reflectivity import AVO_CLASS_CODES, AVO_CLASSES
+
+    count, size = missing
+    note = (f"{count} of {size} interface samples have no rock on one side (NaN)"
+            if count else "every interface sample computed")
+    common = {"missing_inputs": note}
+    attrs = {
+        "reflectivity_pp": {
+            "units": "1", "long_name": "PP reflection coefficient (real part), exact Zoeppritz",
+            "references": "Zoeppritz (1919); Aki & Richards (1980), eq. 5.40", **common},
+        "reflectivity_pp_magnitude": {
+            "units": "1", "long_name": "modulus of the PP reflection coefficient, exact "
+            "Zoeppritz (equal to |real part| before any critical angle)", **common},
+        "avo_class": {
+            "units": "1", "long_name": "AVO class of the interface (Rutherford & Williams "
+            "1989; Ross & Kinman 1995; Castagna & Swan 1997)",
+            "flag_values": np.array(AVO_CLASS_CODES, dtype=np.int8),
+            "flag_meanings": " ".join(AVO_CLASSES),
+            "threshold": float(threshold),
+            "comment": "0: no class (no contrast, A >= 0 with B >= 0, or no rock on one side)",
+            **common}}
+    for name, what in (("avo_intercept", "intercept A"), ("avo_gradient", "gradient B"),
+                       ("avo_curvature", "curvature C")):
+        attrs[name] = {
+            "units": "1", "long_name": f"AVO {what} (Shuey 1985, of the Aki-Richards "
+            "linearisation)", "references": "Shuey (1985); Aki & Richards (1980), eq. 5.44",
+            **common}
+    return attrs
+
+
 def add_seismic(ds, scene):
     """Add the ``[seismic]`` variables of a stack to its Dataset ``ds`` (in place).
 
@@ -52,55 +127,18 @@ def add_seismic(ds, scene):
     import xarray as xr
 
     from ._stack_dataset import interface_properties
-    from .reflectivity import AVO_CLASS_CODES, AVO_CLASSES, avo_class, intercept_gradient, \
-        zoeppritz_pp
 
     seismic = scene.sections["seismic"]
     angles = _angles(seismic)
     sides = interface_properties(ds)
     arrays = [np.asarray(getattr(sides, n).values, dtype=float) for n in _SIDES]
-    ok = _valid(arrays)
-    missing = int(np.count_nonzero(~ok))
-    picked = [a[ok] for a in arrays]
     dims = ("interface", "fluid", "model", "depth")
-    shape = ok.shape
-
-    r = np.full(shape + (angles.size,), np.nan + 0j)
-    r[ok] = zoeppritz_pp(*(p[:, None] for p in picked), angles[None, :])
-    terms = intercept_gradient(*picked)
-    ds.coords["angle"] = ("angle", angles, {"units": "degree",
-                                            "long_name": "angle of incidence"})
-    note = (f"{missing} of {ok.size} interface samples have no rock on one side (NaN)"
-            if missing else "every interface sample computed")
-    common = {"missing_inputs": note}
-    ds["reflectivity_pp"] = xr.Variable(
-        dims + ("angle",), r.real,
-        {"units": "1", "long_name": "PP reflection coefficient (real part), exact Zoeppritz",
-         "references": "Zoeppritz (1919); Aki & Richards (1980), eq. 5.40", **common})
-    ds["reflectivity_pp_magnitude"] = xr.Variable(
-        dims + ("angle",), np.abs(r),
-        {"units": "1", "long_name": "modulus of the PP reflection coefficient, exact "
-         "Zoeppritz (equal to |real part| before any critical angle)", **common})
-    for name, values, what in (("avo_intercept", terms.intercept, "intercept A"),
-                               ("avo_gradient", terms.gradient, "gradient B"),
-                               ("avo_curvature", terms.curvature, "curvature C")):
-        full = np.full(shape, np.nan)
-        full[ok] = values
-        ds[name] = xr.Variable(dims, full, {
-            "units": "1", "long_name": f"AVO {what} (Shuey 1985, of the Aki-Richards "
-            "linearisation)", "references": "Shuey (1985); Aki & Richards (1980), eq. 5.44",
-            **common})
-    codes = np.zeros(shape, dtype=np.int8)
-    codes[ok] = avo_class(terms.intercept, terms.gradient,
-                          threshold=seismic["class_threshold"])
-    ds["avo_class"] = xr.Variable(dims, codes, {
-        "units": "1", "long_name": "AVO class of the interface (Rutherford & Williams 1989; Ross & Kinman "
-        "1995; Castagna & Swan 1997)",
-        "flag_values": np.array(AVO_CLASS_CODES, dtype=np.int8),
-        "flag_meanings": " ".join(AVO_CLASSES),
-        "threshold": float(seismic["class_threshold"]),
-        "comment": "0: no class (no contrast, A >= 0 with B >= 0, or no rock on one side)",
-        **common})
+    out = reflect(arrays, angles, seismic["class_threshold"])
+    ds.coords["angle"] = ("angle", angles, ANGLE_ATTRS)
+    attrs = seismic_attrs(out.pop("missing"), seismic["class_threshold"])
+    for name, values in out.items():
+        ds[name] = xr.Variable(dims + (("angle",) if values.ndim > len(dims) else ()),
+                               values, attrs[name])
     keys = ["AvsethLehocki2016", "Zoeppritz1919", "AkiRichards1980", "Shuey1985",
             "RutherfordWilliams1989", "RossKinman1995", "CastagnaSwan1997"]
     if "column_vp" in ds:

@@ -41,6 +41,15 @@ def _materials(args) -> int:
     return 0
 
 
+def _whole_km(z):
+    """The depths of ``z`` nearest the whole kilometres it spans (at most six), m."""
+    import numpy as np
+
+    km = np.arange(np.ceil(max(z[0], 1.0) / 1000.0), np.floor(z[-1] / 1000.0) + 1) * 1000
+    km = km[np.linspace(0, km.size - 1, min(km.size, 6)).astype(int)] if km.size else z[-1:]
+    return np.unique([z[np.argmin(np.abs(z - d))] for d in km])
+
+
 def _stack_summary(ds) -> str:
     """The run summary of a stack scene: its layers and fluids and, with ``[seismic]``, the AVO
     class of each interface per fluid and model at a few depths (the whole kilometres, at most
@@ -53,11 +62,9 @@ def _stack_summary(ds) -> str:
              "layers: " + ", ".join(f"{str(la)} ({str(li)})" for la, li in
                                     zip(ds["layer"].values, ds["lithology"].values)),
              "fluids of the reservoir: " + ", ".join(str(f) for f in ds["fluid"].values)]
-    if "avo_class" in ds:
+    if "avo_class" in ds.data_vars:
         names = ds["avo_class"].attrs["flag_meanings"].split()
-        km = np.arange(np.ceil(max(z[0], 1.0) / 1000.0), np.floor(z[-1] / 1000.0) + 1) * 1000
-        km = km[np.linspace(0, km.size - 1, min(km.size, 6)).astype(int)] if km.size else z[-1:]
-        at = np.unique([z[np.argmin(np.abs(z - d))] for d in km])
+        at = _whole_km(z)
         width = max(len(str(m)) for m in ds["model"].values)
         for i in ds["interface"].values:
             lines.append(f"AVO class of {i} at " + ", ".join(f"{d:g}" for d in at) + " m:")
@@ -65,6 +72,25 @@ def _stack_summary(ds) -> str:
                 for m in ds["model"].values:
                     codes = ds["avo_class"].sel(interface=i, fluid=f, model=m, depth=at).values
                     cells = "  ".join(f"{names[c - 1] if c else '-':>4}" for c in codes)
+                    lines.append(f"  {str(f):<8}{str(m):<{width}}  {cells}")
+    elif "avo_class_probability" in ds.data_vars:
+        prob = ds["avo_class_probability"]
+        labels = [str(c) for c in prob["avo_class"].values]
+        at = _whole_km(z)
+        width = max(len(str(m)) for m in ds["model"].values)
+        import json
+
+        spec = json.loads(ds.attrs.get("uncertain_json", "{}"))
+        lines.append(f"uncertain: {spec.get('samples', '?')} members; the most probable AVO "
+                     "class and its share of the members")
+        for i in ds["interface"].values:
+            lines.append(f"AVO class of {i} at " + ", ".join(f"{d:g}" for d in at) + " m:")
+            for f in ds["fluid"].values:
+                for m in ds["model"].values:
+                    p = prob.sel(interface=i, fluid=f, model=m, depth=at).transpose(
+                        "depth", "avo_class").values
+                    cells = "  ".join(f"{labels[k]:>4} {row[k]:.2f}"
+                                      for row, k in zip(p, p.argmax(axis=1)))
                     lines.append(f"  {str(f):<8}{str(m):<{width}}  {cells}")
     if "synthetic" in ds:
         lines.append(f"synthetic: {ds.sizes['twt']} samples, {float(ds.twt[0]):g}-"
@@ -350,6 +376,15 @@ def _plot(args) -> int:
         return plot_with_well(ds, args, path)
     if args.kind in ("avo", "synthetic"):
         return _plot_seismic(ds, args, path)
+    if args.kind == "avo-probability" or "avo_class_probability" in ds.data_vars:
+        if args.kind != "avo-probability":
+            raise ValueError(f"--kind {args.kind} draws a single scene's output; {path.name} "
+                             f"is a stack with [uncertain]: draw it with --kind avo-probability")
+        out = output_file(args.output, _default_figure(path, args), figure=True)
+        saved = plots.save_figure(plots.avo_class_probability(ds), out)
+        if not args.quiet:
+            print(f"wrote {saved}")
+        return 0
     if asked is None and args.kind == "band" and "quantile" not in ds.dims:
         args.kind = "depth"                 # --select quantile=...: that quantile's trends
     if args.kind in ("band", "sensitivity") or "quantile" in ds.dims:
@@ -521,12 +556,22 @@ def _plot_kind(ds, args, path) -> str:
         if args.kind == "md-study":
             raise ValueError(f"--kind md-study draws an MD study (dimension saturation); "
                              f"{path.name} is a scene's output (dimensions: {dims})")
-        need = {"avo": "avo_class", "synthetic": "synthetic"}.get(args.kind)
+        if args.kind in ("avo", "synthetic") and "avo_class_probability" in ds.data_vars:
+            raise ValueError(f"{path.name} is a stack with [uncertain]: draw the probability "
+                             f"of each AVO class along depth with --kind avo-probability "
+                             f"(an uncertain stack has no single class or synthetic)")
+        need = {"avo": "avo_class", "synthetic": "synthetic",
+                "avo-probability": "avo_class_probability"}.get(args.kind)
+        if need == "avo_class_probability" and need not in ds.data_vars:
+            raise ValueError(f"{path.name} has no avo_class_probability: run a stack scene "
+                             f"with [seismic] and [uncertain]")
         if need is not None and need not in ds.data_vars:
             raise ValueError(f"{path.name} has no {need}: run a stack scene with [seismic] "
                              f"to compute the AVO variables and synthetics")
         if args.kind is None and "avo_class" in ds.data_vars and not args.well:
             return "avo"                    # a stack with [seismic]: its AVO charts
+        if args.kind is None and "avo_class_probability" in ds.data_vars and not args.well:
+            return "avo-probability"        # ... and with [uncertain]: each class's share
         if args.kind is None and "quantile" in ds.dims and not args.well:
             return "band"                   # [uncertain]: quantile bands along depth
         return args.kind or "depth"
@@ -671,7 +716,7 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("plot", help="draw a figure of a scene's netCDF file")
     p.add_argument("file", help="netCDF file written by `rockcem run`")
     p.add_argument("--kind", choices=["depth", "vp-porosity", "template", "band", "sensitivity",
-                                      "avo", "synthetic", "md-study"],
+                                      "avo", "avo-probability", "synthetic", "md-study"],
                    default=None,
                    help="depth trends (the default for a scene's file without [uncertain]), "
                         "velocity-porosity, the rock-physics template; of a scene with "
@@ -684,7 +729,9 @@ def _parser() -> argparse.ArgumentParser:
                         "AVO class against depth, the intercept-gradient crossplot and R_PP "
                         "against angle, the name with _class, _crossplot, _angle before its "
                         "suffix; the default for a stack with [seismic]) or synthetic (the "
-                        "synthetic traces); or an MD study's "
+                        "synthetic traces), and of a stack with [uncertain], avo-probability "
+                        "(the share of the members in each AVO class against depth; the "
+                        "default there); or an MD study's "
                         "velocity against cement saturation (the default, and the only kind, "
                         "for an MD study's file)")
     p.add_argument("--depth", action="append", type=float, metavar="M",

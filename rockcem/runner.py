@@ -319,6 +319,10 @@ def evaluate(scene, *, scheduler=None, jobs=1, progress=False):
     inputs (``[uncertain]``, :func:`rockcem._uncertain.evaluate_uncertain`) there too."""
     from .variables import build_dataset
 
+    if scene.layers and scene.uncertain:    # its members (rockcem._uncertain_stack)
+        from ._uncertain_stack import evaluate_uncertain_stack
+
+        return evaluate_uncertain_stack(scene, scheduler=scheduler, progress=progress)
     if scene.layers:                    # a stack of lithologies (rockcem._scene_stack)
         from ._stack_dataset import evaluate_stack
 

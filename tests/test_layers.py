@@ -14,6 +14,7 @@ BASE = {"rockcem.validation", "rockcem.constants", "rockcem.variables", "rockcem
 SCENE_LAYER = {"rockcem.scene", "rockcem.runner", "rockcem.histories", "rockcem.wellfit",
                "rockcem.__main__", "rockcem._scene_stack", "rockcem._stack_dataset",
                "rockcem._stack_seismic", "rockcem._uncertain", "rockcem._uncertain_keys",
+               "rockcem._uncertain_stack",
                "rockcem.cli", "rockcem.cli_wells", "rockcem._cli_files", "rockcem.plots"}
 
 
@@ -81,7 +82,7 @@ def test_lower_floors_do_not_import_the_scene_layer(module):
 #: runner's).
 PART_OF = {"rockcem._scene_stack": "rockcem.scene", "rockcem._stack_dataset": "rockcem.runner",
            "rockcem._stack_seismic": "rockcem.runner", "rockcem._uncertain": "rockcem.runner",
-           "rockcem._uncertain_keys": "rockcem.scene"}
+           "rockcem._uncertain_keys": "rockcem.scene", "rockcem._uncertain_stack": "rockcem.runner"}
 
 
 def test_no_import_cycles_in_the_scene_layer():

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 from ._save import figure_path, save_figure
 from ._style import MAX_MEMBERS, MODEL_LABELS
-from .avo import (avo_class_depth, intercept_gradient_crossplot, reflectivity_angle,
-                  synthetic_section)
+from .avo import (avo_class_depth, avo_class_probability, intercept_gradient_crossplot,
+                  reflectivity_angle, synthetic_section)
 from .depth import depth_trends
 from .md_study import md_study_velocity, velocity_error
 from .sensitivity import sobol_tornado
@@ -28,7 +28,8 @@ from .templates import rock_physics_template, velocity_porosity
 from .uncertainty import depth_bands, member_template
 from .wells import fit_figure, well_band, well_overlay, well_template
 
-__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "depth_bands", "depth_trends",
+__all__ = ["MAX_MEMBERS", "MODEL_LABELS", "avo_class_depth", "avo_class_probability",
+           "depth_bands", "depth_trends",
            "figure_path", "fit_figure", "intercept_gradient_crossplot", "md_study_velocity",
            "member_template",
            "reflectivity_angle", "rock_physics_template", "save_figure", "sobol_tornado",

@@ -18,11 +18,12 @@ import numpy as np
 from ._style import (_INK, _RC, _capital, _check_dataset, _figure, _label, _model_colour,
                      _model_label, _model_width, _require, _units_text)
 
-__all__ = ["avo_class_depth", "intercept_gradient_crossplot", "reflectivity_angle",
-           "synthetic_section", "class_threshold"]
+__all__ = ["avo_class_depth", "avo_class_probability", "intercept_gradient_crossplot",
+           "reflectivity_angle", "synthetic_section", "class_threshold"]
 
 #: The dimensions the AVO figures draw; any other must be reduced to one value first.
-_AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt", "gather_twt")
+_AVO_DIMS = ("interface", "fluid", "model", "depth", "angle", "twt", "gather_twt",
+             "avo_class")
 #: Light fill of each class region on the crossplot, by the class's position in
 #: ``flag_values`` (Okabe–Ito hues).
 _CLASS_COLOURS = ("#56B4E9", "#009E73", "#F0E442", "#E69F00", "#CC79A7", "#0072B2",
@@ -310,6 +311,115 @@ def avo_class_depth(ds, *, interface=None, fig=None):
         title = "; ".join(t for t in (held, interfaces[0] if len(interfaces) == 1
                                       and interfaces[0] else "") if t)
         _held_legend(fig, handles, title, min(len(models), 4))
+    return fig
+
+
+# ----------------------------------------------------------------------------- class probability
+#: Fill of the "none" share (no class, or no rock on one side) of the class probabilities.
+_NO_CLASS_COLOUR = "#D9D9D9"
+
+
+def avo_class_probability(ds, *, interface=None, model=None, fig=None):
+    """The probability of each AVO class against depth of burial, for a stack with uncertain
+    inputs: one row per interface and model, one column per fluid, the classes' fractions of
+    the members stacked from 0 to 1.
+
+    At each depth the bands are, left to right, the fractions of the members in each class
+    along the ``avo_class`` dimension of ``avo_class_probability`` (I, IIp, II, III, IV, then
+    ``none``: no class or no rock on one side, in grey); they fill the panel's width, since
+    the fractions add up to one. Between depth samples the band edges are joined by straight
+    lines. Depth increases downward.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stack scene's Dataset with ``avo_class_probability`` (dimensions ``avo_class``,
+        ``depth`` and among ``interface``, ``fluid``, ``model``), as
+        :func:`rockcem.scene.run_scene` gives it for a stack with ``[uncertain]``.
+    interface : str or sequence of str, optional
+        The interfaces to draw; default all.
+    model : str or sequence of str, optional
+        The models to draw (``"patchy_cement"``); default all, a row each.
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw in (default: a new one, sized for the panels).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``len(interface) × len(model) × len(fluid)`` axes in row-major order (rows: the
+        models of the first interface, then of the next), and a legend of the classes. The
+        bands carry the ``gid`` ``"probability:<class>"``.
+
+    Raises
+    ------
+    ValueError
+        If ``ds`` has no ``depth`` dimension or no ``avo_class_probability``, the variable has
+        no ``avo_class`` dimension or another dimension with more than one value, or
+        ``interface`` or ``model`` names one that is not in ``ds``.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> p = np.zeros((6, 2, 3))                   # class, fluid, depth
+    >>> p[0, 0] = 1.0                             # brine: class I at every depth
+    >>> p[2, 1], p[3, 1] = [0.25, 0.5, 1.0], [0.75, 0.5, 0.0]       # gas: II and III
+    >>> ds = xr.Dataset(
+    ...     {"avo_class_probability": (("avo_class", "fluid", "depth"), p)},
+    ...     coords={"avo_class": ["I", "IIp", "II", "III", "IV", "none"],
+    ...             "fluid": ["brine", "gas"],
+    ...             "depth": ("depth", [1000.0, 2000.0, 3000.0], {"units": "m"})})
+    >>> fig = avo_class_probability(ds)
+    >>> [ax.get_title() for ax in fig.axes]
+    ['Brine', 'Gas']
+    >>> import matplotlib.pyplot as plt; plt.close(fig)
+    """
+    purpose = "avo_class_probability"
+    ds, held = _prepare(ds, [purpose], purpose)
+    if "avo_class" not in ds[purpose].dims:
+        raise ValueError(f"{purpose} needs the dimension 'avo_class' of the variable {purpose} "
+                         f"(its dimensions: {', '.join(map(str, ds[purpose].dims))})")
+    ds = _pick(_pick(ds, "interface", interface, purpose), "model", model, purpose)
+    p = ds[purpose].transpose("interface", "model", "fluid", "avo_class", "depth").values
+    labels = _names(ds, "avo_class")
+    colours = [_NO_CLASS_COLOUR if label == "none" else _CLASS_COLOURS[k % len(_CLASS_COLOURS)]
+               for k, label in enumerate(labels)]
+    depth = np.asarray(ds["depth"].values, dtype=float)
+    interfaces, models, fluids = (_names(ds, d) for d in ("interface", "model", "fluid"))
+    rows = [(i, face, j, m) for i, face in enumerate(interfaces) for j, m in enumerate(models)]
+
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    with plt.rc_context(_RC):
+        fig = _figure(fig, (1.2 + 2.3 * len(fluids), 0.9 + 3.0 * len(rows)))
+        axes = fig.subplots(len(rows), len(fluids), sharex=True, sharey=True, squeeze=False)
+        for r, (i, face, j, m) in enumerate(rows):
+            for c, fluid in enumerate(fluids):
+                ax = axes[r, c]
+                low = np.zeros(depth.size)
+                for k, label in enumerate(labels):
+                    high = low + np.nan_to_num(p[i, j, c, k])
+                    ax.fill_betweenx(depth, low, high, color=colours[k], linewidth=0,
+                                     gid=f"probability:{label}")
+                    low = high
+                parts = [_capital(_fluid_text(fluid)) if fluid else "",
+                         _model_label(m) if m and len(models) > 1 else "",
+                         face if len(interfaces) > 1 else ""]
+                ax.set_title(", ".join(t for t in parts if t), fontsize="medium")
+                ax.set_xlim(0.0, 1.0)
+                ax.grid(False)
+                if c == 0:
+                    ax.set_ylabel(_label("depth", ds))
+                if r == len(rows) - 1:
+                    ax.set_xlabel("Fraction of the members")
+        _depth_axis(axes[0, 0], depth)
+        handles = [Patch(color=colours[k], label=f"class {label}" if label != "none"
+                         else "no class") for k, label in enumerate(labels)]
+        title = "; ".join(t for t in (held, _model_label(models[0]) if len(models) == 1
+                                      and models[0] else "",
+                                      interfaces[0] if len(interfaces) == 1 and interfaces[0]
+                                      else "") if t)
+        _held_legend(fig, handles, title, len(labels))
     return fig
 
 
