@@ -31,10 +31,12 @@ reorders each input's sampled values and so keeps its marginal sample (and a Lat
 stratification) exactly.
 
 Members are evaluated in chunks (serially, or one chunk per dask task as sweep members are).
-Within a chunk the burial kinetics run member by member (they take one path each) and the
-petro-elastic models, which are pointwise in depth, run once on all the chunk's (member, depth)
-points; a scene whose pore fluid varies with depth or holds a hydrocarbon runs each member
-through the scene runner instead (:func:`rockcem.runner.evaluate`).
+Within a chunk the burial kinetics of a linear path run once for all members (the burial
+functions take per-member parameters as arrays: one path per member on the shared depth nodes;
+a table path of horizons runs member by member) and the petro-elastic models, which are
+pointwise in depth, run once on all the chunk's (member, depth) points; a scene whose pore
+fluid varies with depth or holds a hydrocarbon runs each member through the scene runner
+instead (:func:`rockcem.runner.evaluate`).
 
 References
 ----------
@@ -307,40 +309,140 @@ def _evaluate_each(scene, values, m):
     return {k: (dims, np.stack(v)) for k, (dims, v) in data.items()}, warnings
 
 
+def _member_sections(scene, values):
+    """The scene's sections with each uncertain key holding its members' values, an array."""
+    sections = {name: dict(sec) for name, sec in scene.sections.items()}
+    for dotted, v in values.items():
+        section, _, key = dotted.rpartition(".")
+        sections[section][key] = np.asarray(v, dtype=float)
+    return sections
+
+
+def _member_pipeline(scene, values):
+    """A :class:`rockcem.runner._Pipeline` whose rock state holds every member of a chunk:
+    arrays of shape (member, depth), from one call of each burial function on per-member
+    parameters (the path of :func:`burial.linear_path` has the members on its leading axis)."""
+    from functools import cached_property
+
+    import burial
+
+    from .runner import _Pipeline, _section
+
+    class Members(_Pipeline):
+        def _column(self, value):
+            """A per-member parameter against the (member, depth) points."""
+            return np.asarray(value, dtype=float)[..., None] if np.ndim(value) else value
+
+        @cached_property
+        def path(self):
+            p = self.sec["path"]
+            rate = p["sedimentation_rate"]
+            if p["heating_rate"] is not None:
+                G, H = np.asarray(p["gradient"]), np.asarray(p["heating_rate"])
+                if np.any(H <= 0):
+                    raise ValueError("scene key path.heating_rate must be > 0")
+                rate = np.where(G > 0, H / np.where(G > 0, G, 1.0) * 1000.0, -1.0)
+            with _section("path"):
+                return burial.linear_path(p["gradient"], rate, p["surface_temperature"],
+                                          p["max_depth"], depth_step=p["depth_step"])
+
+        def now(self, values):
+            return values                   # every node of each member's path is its profile
+
+        @cached_property
+        def sandstone(self):
+            s = self.lith
+            with _section("sandstone"):
+                igv = burial.intergranular_volume(
+                    self._column(s["porosity0"]), self.pressures.max_effective,
+                    self._column(s["igv_final"]), self._column(s["beta"]))
+            return burial.sandstone_porosity(igv, self.quartz)
+
+        @cached_property
+        def shale_porosity(self):
+            with _section("shale"):
+                return burial.athy_porosity(self._column(self.lith["porosity0"]),
+                                            self.pressures.max_effective,
+                                            self._column(self.lith["beta"]))
+
+    return Members(dataclasses.replace(scene, sections=_member_sections(scene, values),
+                                       uncertain={}, sweep={}))
+
+
+class _Stacked:
+    """The rock states of members run one by one (a table path), stacked along a leading
+    member axis: what :func:`_member_pipeline` gives for a linear path."""
+
+    def __init__(self, scene, values, m):
+        from burial import Pressures
+        from burial.compaction import SandstonePorosity
+
+        pipes = [_plain_pipeline(_member_scene(scene, {k: v[i] for k, v in values.items()}))
+                 for i in range(m)]
+        self.pipes, p0 = pipes, pipes[0]
+        self.lith = dict(p0.lith)
+        self.lith["porosity0"] = np.array([p.lith["porosity0"] for p in pipes])
+        self.path, self.materials, self.pore_fluid = p0.path, p0.materials, p0.pore_fluid
+        self.porosity = np.stack([p.porosity for p in pipes])
+        self.solid_fractions = np.stack([p.solid_fractions for p in pipes])
+        self.pressures = Pressures(*(np.stack([getattr(p.pressures, f) for p in pipes])
+                                     for f in Pressures._fields))
+        if scene.lithology == "sandstone":
+            self.sandstone = SandstonePorosity(*(np.stack([getattr(p.sandstone, f)
+                                                           for p in pipes])
+                                                 for f in SandstonePorosity._fields))
+
+    def now(self, values):
+        return self.pipes[0].now(values)
+
+    def state_variable(self, name):
+        return np.stack([np.asarray(p.state_variable(name)) for p in self.pipes])
+
+
+def _plain_pipeline(scene):
+    """The scene runner's pipeline of one scene (:class:`rockcem.runner._Pipeline`)."""
+    from .runner import _Pipeline
+
+    return _Pipeline(scene)
+
+
 def _evaluate_together(scene, values, m):
-    """The members' rock states one by one, their models once on all (member, depth) points."""
+    """The members' rock states in one pass of the burial functions (a linear path; member by
+    member for a table path), their models once on all (member, depth) points."""
     from burial import Pressures
     from burial.compaction import SandstonePorosity
 
-    from .runner import _Pipeline
     from .validity import validity_warnings
     from .variables import MODEL_OUTPUTS
 
-    pipes = [_Pipeline(_member_scene(scene, {k: v[i] for k, v in values.items()}))
-             for i in range(m)]
+    if scene.sections["path"]["kind"] == "linear":
+        states = _member_pipeline(scene, values)
+    else:
+        states = _Stacked(scene, values, m)
     state = [n for n in scene.outputs if n not in MODEL_OUTPUTS]
     wanted = [n for n in scene.outputs if n in MODEL_OUTPUTS]
-    data = {name: (("depth",), np.stack([np.asarray(p.state_variable(name)) for p in pipes]))
+    data = {name: (("depth",), np.broadcast_to(states.state_variable(name),
+                                               states.porosity.shape))
             for name in state}
-    n = np.shape(pipes[0].porosity)[-1]
+    n = np.shape(states.porosity)[-1]
     sandstone = scene.lithology == "sandstone"
     results = {}
+    flat = None
     if wanted:
         flat_sections = {name: dict(sec) for name, sec in scene.sections.items()}
         for dotted, v in values.items():          # one value per (member, depth) point
             section, _, key = dotted.rpartition(".")
             flat_sections[section][key] = np.repeat(np.asarray(v, dtype=float), n)
-        flat = _Pipeline(dataclasses.replace(scene, sections=flat_sections, uncertain={}))
-        cat = np.concatenate
+        flat = _plain_pipeline(dataclasses.replace(scene, sections=flat_sections, uncertain={}))
         flat.__dict__.update(
-            porosity=cat([p.porosity for p in pipes]),
-            solid_fractions=cat([p.solid_fractions for p in pipes]),
-            pressures=Pressures(*(cat([getattr(p.pressures, f) for p in pipes])
+            porosity=states.porosity.reshape(-1),
+            solid_fractions=states.solid_fractions.reshape(m * n, -1),
+            pressures=Pressures(*(np.reshape(getattr(states.pressures, f), -1)
                                   for f in Pressures._fields)),
-            pore_fluid=pipes[0].pore_fluid, materials=pipes[0].materials)
+            pore_fluid=states.pore_fluid, materials=states.materials)
         if sandstone:
             flat.__dict__["sandstone"] = SandstonePorosity(
-                *(cat([getattr(p.sandstone, f) for p in pipes])
+                *(np.reshape(getattr(states.sandstone, f), -1)
                   for f in SandstonePorosity._fields))
         results = {label: flat.model(label) for label in scene.models}
         for name in wanted:
@@ -357,14 +459,17 @@ def _evaluate_together(scene, values, m):
         shear["patchy_cement"] = (results["patchy_cement"].G_dry.reshape(m, n),
                                   flat._model("patchy_cement", flat.pore_fluid.fluid,
                                               delta=0.0).G_dry.reshape(m, n))
+    depth = np.asarray(states.now(states.path.depth))
+    depth = depth[0] if depth.ndim == 2 else depth          # the depths every member shares
+    porosity0 = np.broadcast_to(states.lith["porosity0"], (m,))
     warnings = []
-    for i, p in enumerate(pipes):
+    for i in range(m):
         lines = validity_warnings(
-            p.now(p.path.depth), p.porosity, porosity0=p.lith["porosity0"],
+            depth, states.porosity[i], porosity0=float(porosity0[i]),
             models=scene.models if wanted else (),
-            pore_filled=p.sandstone.pore_filled if sandstone else None,
+            pore_filled=states.sandstone.pore_filled[i] if sandstone else None,
             shear_moduli={k: (a[i], b[i]) for k, (a, b) in shear.items()})
-        warnings.append(lines + p.pore_fluid.warnings)
+        warnings.append(lines + states.pore_fluid.warnings)
     return data, warnings
 
 
