@@ -533,37 +533,28 @@ def _sobol_members(scene, scheduler, progress):
         dims: NaN where the output does not vary among the members of A and B (relative
         standard deviation below :data:`SOBOL_MIN_RELATIVE_SD`).
     """
-    from scipy.stats import sobol_indices
-
     spec = scene.uncertain
     keys = list(spec["keys"])
     d, N = len(keys), spec["samples"]
-    runs, outs = [], []
+    runs = []
 
     def func(x):                        # x: (d, n) inputs; (s, n) outputs
         values = {k: np.asarray(x[j], dtype=float) for j, k in enumerate(keys)}
         data, warnings = _run_members(scene, values, scheduler, progress, planned=N * (d + 2))
         runs.append((values, data, warnings))
         n = x.shape[1]
-        outs.append(np.concatenate([np.asarray(data[name][1], dtype=float).reshape(n, -1)
-                                    for name in names], axis=1).T)
-        return outs[-1]
+        return np.concatenate([np.asarray(data[name][1], dtype=float).reshape(n, -1)
+                               for name in names], axis=1).T
 
     names = [n for n in SOBOL_OUTPUTS if n in scene.outputs]
     if not names:
         raise ValueError("scene key uncertain.sensitivity = true needs one of the outputs "
                          f"{', '.join(SOBOL_OUTPUTS)} in [output]")
-    # the generator's keyword: rng from SciPy 1.15, random_state before
-    keyword = "rng" if "rng" in inspect.signature(sobol_indices).parameters else "random_state"
-    result = sobol_indices(func=func, n=N,
-                           dists=[_TruncatedInverse(e) for e in spec["keys"].values()],
-                           **{keyword: np.random.default_rng(spec["seed"])})
+    first, total, first_se, total_se = saltelli_indices(func, list(spec["keys"].values()), N,
+                                                        spec["seed"])
     (va, da, wa), (vb, db, wb) = runs[0], runs[1]
     values = {k: np.concatenate([va[k], vb[k]]) for k in keys}
     data = {name: (dims, np.concatenate([a, db[name][1]])) for name, (dims, a) in da.items()}
-    first = np.reshape(result.first_order, (-1, d))
-    total = np.reshape(result.total_order, (-1, d))
-    first_se, total_se = _sobol_standard_errors(outs[0], outs[1], outs[2])
     sobol, at = {}, 0
     for name in names:
         dims, a = data[name]
@@ -579,6 +570,50 @@ def _sobol_members(scene, scheduler, progress):
         sobol[name] = (dims, *parts)
         at += size
     return values, data, wa + wb, sobol
+
+
+def saltelli_indices(func, entries, N, seed):
+    """First-order and total Sobol' indices of ``func``'s outputs and their standard errors:
+    the estimator every scene with ``sensitivity = true`` runs (:func:`_sobol_members`).
+
+    :func:`scipy.stats.sobol_indices` evaluates ``func`` on A, B (N rows each, the halves of
+    one scrambled Sobol' sequence in 2d dimensions, mapped through :class:`_TruncatedInverse`)
+    and the d matrices A_B^(i), N (d + 2) rows; the first-order index is Saltelli et al.
+    (2010)'s estimator (Table 2 (b)), the total index Jansen (1999)'s (Saltelli et al. 2010,
+    Table 2 (f)); the standard errors are :func:`_sobol_standard_errors`'.
+
+    Parameters
+    ----------
+    func : callable
+        ``func(x)`` with ``x`` of shape (d, n), the inputs of n rows, returns (s, n): s outputs.
+    entries : list of dict
+        The d inputs' checked ``[uncertain]`` entries (distribution, parameters, ``cdf_range``,
+        ``range``).
+    N : int
+        Base sample size, a power of two.
+    seed : int
+        Seed of the design's generator.
+
+    Returns
+    -------
+    first, total, first_se, total_se : ndarray, shape (s, d)
+    """
+    from scipy.stats import sobol_indices
+
+    outs = []
+
+    def kept(x):
+        outs.append(np.asarray(func(x), dtype=float))
+        return outs[-1]
+
+    d = len(entries)
+    # the generator's keyword: rng from SciPy 1.15, random_state before
+    keyword = "rng" if "rng" in inspect.signature(sobol_indices).parameters else "random_state"
+    result = sobol_indices(func=kept, n=N, dists=[_TruncatedInverse(e) for e in entries],
+                           **{keyword: np.random.default_rng(seed)})
+    first = np.reshape(result.first_order, (-1, d))
+    total = np.reshape(result.total_order, (-1, d))
+    return (first, total, *_sobol_standard_errors(outs[0], outs[1], outs[2]))
 
 
 def _sobol_standard_errors(f_A, f_B, f_AB_columns):
