@@ -342,8 +342,9 @@ def _member_pipeline(scene, values):
                 if np.any(H <= 0):
                     raise ValueError("scene key path.heating_rate must be > 0")
                 rate = np.where(G > 0, H / np.where(G > 0, G, 1.0) * 1000.0, -1.0)
+            members = np.broadcast_to(p["gradient"], (self.members,))   # a path per member
             with _section("path"):
-                return burial.linear_path(p["gradient"], rate, p["surface_temperature"],
+                return burial.linear_path(members, rate, p["surface_temperature"],
                                           p["max_depth"], depth_step=p["depth_step"])
 
         def now(self, values):
@@ -365,8 +366,10 @@ def _member_pipeline(scene, values):
                                             self.pressures.max_effective,
                                             self._column(self.lith["beta"]))
 
-    return Members(dataclasses.replace(scene, sections=_member_sections(scene, values),
+    pipe = Members(dataclasses.replace(scene, sections=_member_sections(scene, values),
                                        uncertain={}, sweep={}))
+    pipe.members = len(next(iter(values.values())))
+    return pipe
 
 
 class _Stacked:
@@ -409,10 +412,27 @@ def _plain_pipeline(scene):
 def _evaluate_together(scene, values, m):
     """The members' rock states in one pass of the burial functions (a linear path; member by
     member for a table path), their models once on all (member, depth) points."""
+    data, checks = _chunk_arrays(scene, values, m)
+    return data, _member_lines(checks)
+
+
+def _chunk_arrays(scene, values, m, depths=slice(None)):
+    """The outputs of a chunk's members at the depths ``depths`` (a slice of the depth axis;
+    the rock states run down the whole path, the models only there), and what their validity
+    rules look at there.
+
+    Returns
+    -------
+    data : dict
+        ``{name: (dims, ndarray (m, ..., k))}``, k the depths of the slice.
+    checks : dict
+        The inputs of :func:`rockcem.validity.validity_warnings` per member: ``depth`` (k,),
+        ``porosity`` (m, k), ``porosity0`` (m,), ``pore_filled`` (m, k) or None, ``shear``
+        ``{label: (G, G_supported)}`` each (m, k), ``models`` and the fluid's ``warnings``.
+    """
     from burial import Pressures
     from burial.compaction import SandstonePorosity
 
-    from .validity import validity_warnings
     from .variables import MODEL_OUTPUTS
 
     if scene.sections["path"]["kind"] == "linear":
@@ -421,10 +441,11 @@ def _evaluate_together(scene, values, m):
         states = _Stacked(scene, values, m)
     state = [n for n in scene.outputs if n not in MODEL_OUTPUTS]
     wanted = [n for n in scene.outputs if n in MODEL_OUTPUTS]
-    data = {name: (("depth",), np.broadcast_to(states.state_variable(name),
-                                               states.porosity.shape))
+    shape = states.porosity.shape
+    data = {name: (("depth",), np.broadcast_to(states.state_variable(name), shape)[:, depths])
             for name in state}
-    n = np.shape(states.porosity)[-1]
+    porosity = states.porosity[:, depths]
+    n = porosity.shape[-1]
     sandstone = scene.lithology == "sandstone"
     results = {}
     flat = None
@@ -434,16 +455,17 @@ def _evaluate_together(scene, values, m):
             section, _, key = dotted.rpartition(".")
             flat_sections[section][key] = np.repeat(np.asarray(v, dtype=float), n)
         flat = _plain_pipeline(dataclasses.replace(scene, sections=flat_sections, uncertain={}))
+        points = (lambda a: np.ascontiguousarray(np.asarray(a)[:, depths]).reshape(m * n))
         flat.__dict__.update(
-            porosity=states.porosity.reshape(-1),
-            solid_fractions=states.solid_fractions.reshape(m * n, -1),
-            pressures=Pressures(*(np.reshape(getattr(states.pressures, f), -1)
+            porosity=points(states.porosity),
+            solid_fractions=np.ascontiguousarray(
+                states.solid_fractions[:, depths]).reshape(m * n, -1),
+            pressures=Pressures(*(points(getattr(states.pressures, f))
                                   for f in Pressures._fields)),
             pore_fluid=states.pore_fluid, materials=states.materials)
         if sandstone:
             flat.__dict__["sandstone"] = SandstonePorosity(
-                *(np.reshape(getattr(states.sandstone, f), -1)
-                  for f in SandstonePorosity._fields))
+                *(points(getattr(states.sandstone, f)) for f in SandstonePorosity._fields))
         results = {label: flat.model(label) for label in scene.models}
         for name in wanted:
             data[name] = (("model", "depth"), np.stack(
@@ -461,16 +483,68 @@ def _evaluate_together(scene, values, m):
                                               delta=0.0).G_dry.reshape(m, n))
     depth = np.asarray(states.now(states.path.depth))
     depth = depth[0] if depth.ndim == 2 else depth          # the depths every member shares
-    porosity0 = np.broadcast_to(states.lith["porosity0"], (m,))
-    warnings = []
-    for i in range(m):
-        lines = validity_warnings(
-            depth, states.porosity[i], porosity0=float(porosity0[i]),
-            models=scene.models if wanted else (),
-            pore_filled=states.sandstone.pore_filled[i] if sandstone else None,
-            shear_moduli={k: (a[i], b[i]) for k, (a, b) in shear.items()})
-        warnings.append(lines + states.pore_fluid.warnings)
-    return data, warnings
+    return data, {
+        "depth": depth[depths], "porosity": porosity,
+        "porosity0": np.broadcast_to(states.lith["porosity0"], (m,)),
+        "pore_filled": states.sandstone.pore_filled[:, depths] if sandstone else None,
+        "shear": shear, "models": tuple(scene.models) if wanted else (),
+        "warnings": list(states.pore_fluid.warnings)}
+
+
+def _member_lines(checks):
+    """Each member's validity lines (:func:`rockcem.validity.validity_warnings`) from the
+    ``checks`` of :func:`_chunk_arrays` (or :func:`_unmasked`)."""
+    from .validity import validity_warnings
+
+    lines = []
+    for i in range(len(checks["porosity0"])):
+        lines.append(validity_warnings(
+            checks["depth"], checks["porosity"][i], porosity0=float(checks["porosity0"][i]),
+            models=checks["models"],
+            pore_filled=None if checks["pore_filled"] is None else checks["pore_filled"][i],
+            shear_moduli={k: (a[i], b[i]) for k, (a, b) in checks["shear"].items()})
+            + checks["warnings"])
+    return lines
+
+
+def _masked(checks):
+    """The ``checks`` of :func:`_chunk_arrays` reduced to where each validity rule holds, one
+    bit per (member, depth): ``{rule: packed bits (m, ceil(k / 8))}`` and the rest as is.
+
+    The rules are those of :func:`rockcem.validity.validity_warnings` (with its constants):
+    Krief's frame where the porosity exceeds :data:`rockcem.validity.KRIEF_LOOSE_FRACTION` of
+    the depositional porosity, Models 2 and 4 where the supported shear modulus is below
+    ``1 - ASSUMPTION_SHEAR_FRACTION`` of the model's, the cement where it fills the pores.
+    """
+    from .validity import ASSUMPTION_SHEAR_FRACTION, KRIEF_LOOSE_FRACTION
+
+    limit = KRIEF_LOOSE_FRACTION * np.asarray(checks["porosity0"], dtype=float)[:, None]
+    rules = {"krief": checks["porosity"] > limit}
+    for label, (G, supported) in checks["shear"].items():
+        rules[label] = supported < (1.0 - ASSUMPTION_SHEAR_FRACTION) * G
+    if checks["pore_filled"] is not None:
+        rules["pore_filled"] = np.asarray(checks["pore_filled"]).astype(bool)
+    return {"depths": checks["porosity"].shape[-1],
+            "bits": {rule: np.packbits(mask, axis=-1) for rule, mask in rules.items()},
+            **{k: checks[k] for k in ("depth", "porosity0", "models", "warnings")}}
+
+
+def _unmasked(parts):
+    """The ``checks`` of the whole depth axis from the :func:`_masked` parts of its slices (in
+    depth order): arrays that meet each rule exactly where the masks hold (porosity 1 or 0
+    against the Krief limit below 1; shear moduli 1 and 0 or 1; the pore-filled flags), so
+    :func:`_member_lines` gives each member's lines as its own values would."""
+    masks = {rule: np.concatenate([np.unpackbits(p["bits"][rule], axis=-1,
+                                                 count=p["depths"]).astype(bool)
+                                   for p in parts], axis=-1) for rule in parts[0]["bits"]}
+    ones = np.ones(masks["krief"].shape)
+    return {"depth": np.concatenate([p["depth"] for p in parts]),
+            "porosity": np.where(masks["krief"], 1.0, 0.0),
+            "porosity0": parts[0]["porosity0"], "models": parts[0]["models"],
+            "pore_filled": masks.get("pore_filled"),
+            "shear": {label: (ones, np.where(masks[label], 0.0, 1.0))
+                      for label in masks if label not in ("krief", "pore_filled")},
+            "warnings": parts[0]["warnings"]}
 
 
 def _merge_member_warnings(per_member, total):
@@ -652,6 +726,90 @@ def _sobol_standard_errors(f_A, f_B, f_AB_columns):
     return first.T, total.T
 
 
+#: Most bytes of members' values one depth slice holds on a dask worker
+#: (:func:`_quantiles_by_depth`); more slices are made for a larger run.
+SLICE_BYTES = 256 * 2 ** 20
+
+
+def _slice_quantiles(scene, values, depths, q):
+    """Every member at the depths ``depths`` (a slice of the depth axis): the quantiles ``q``
+    of each output there, and the member's validity masks there (:func:`_masked`).
+
+    The members run in chunks of :data:`CHUNK_MEMBERS` (:func:`_chunk_arrays`: the rock
+    states down the whole path, the models at these depths only). A quantile at a depth is a
+    function of all members' values at that depth alone, so the slice's quantiles are exactly
+    those of the whole run there.
+    """
+    N = len(next(iter(values.values())))
+    out, parts = {}, []
+    for a in range(0, N, CHUNK_MEMBERS):
+        b = min(a + CHUNK_MEMBERS, N)
+        data, checks = _chunk_arrays(scene, {k: v[a:b] for k, v in values.items()}, b - a,
+                                     depths)
+        for name, (dims, arr) in data.items():
+            out.setdefault(name, (dims, np.empty((N,) + arr.shape[1:])))[1][a:b] = arr
+        parts.append(_masked(checks))
+    quantiles = {name: (dims, np.quantile(a, q, axis=0)) for name, (dims, a) in out.items()}
+    masks = dict(parts[0], porosity0=np.concatenate([p["porosity0"] for p in parts]),
+                 bits={rule: np.concatenate([p["bits"][rule] for p in parts])
+                       for rule in parts[0]["bits"]})
+    return quantiles, masks
+
+
+def _quantiles_by_depth(scene, values, q, scheduler, progress):
+    """The quantiles of every output on dask without every member's values coming back: one
+    task per slice of the depth axis runs all members there (:func:`_slice_quantiles`) and
+    returns the quantiles of its depths and one bit per (member, depth, validity rule).
+
+    Quantiles of member chunks do not merge into those of all members; quantiles of depth
+    slices put side by side are those of the whole run, exactly. Each task recomputes the
+    members' rock states down the path (the kinetics integrate from the surface; a few per
+    cent of a member's time) and runs the models only at its depths. There are twice as many
+    slices as the cluster has worker threads (to balance the load), more if a slice would
+    hold more than :data:`SLICE_BYTES` of members' values.
+
+    Returns
+    -------
+    quantiles : dict
+        ``{name: (dims, ndarray (len(q), ..., depth))}``.
+    warnings : list of list of str
+        Each member's validity lines, as the serial run gives them.
+    """
+    import math
+
+    from ._scheduler import dask_client
+
+    N = len(next(iter(values.values())))
+    first = _chunk_arrays(scene, {k: v[:1] for k, v in values.items()}, 1)[0]
+    n = len(_template(scene)["depth"][1])
+    per_depth = sum(a.size for _dims, a in first.values()) / n
+    if 8 * per_depth * N > MAX_UNCERTAIN_BYTES:
+        raise ValueError(f"scene [uncertain]: {N} members take {8 * per_depth * N / 2 ** 30:.3g}"
+                         f" GiB at one depth, above {MAX_UNCERTAIN_BYTES / 2 ** 30:g} GiB on a "
+                         "worker; lower uncertain.samples or ask fewer outputs")
+    with dask_client(scheduler, 2, what="running uncertain members on dask") as client:
+        from dask.distributed import as_completed
+
+        threads = max(1, sum(client.nthreads().values()))
+        k = min(n, max(2 * threads, math.ceil(8 * per_depth * N * n / SLICE_BYTES)))
+        bounds = np.linspace(0, n, k + 1).round().astype(int)
+        slices = [slice(int(a), int(b)) for a, b in zip(bounds, bounds[1:])]
+        futures = client.map(_slice_quantiles, [scene] * k, [values] * k, slices, [q] * k,
+                             pure=False)
+        where = {f.key: i for i, f in enumerate(futures)}
+        if progress:
+            from dask.distributed import progress as dask_progress
+
+            dask_progress(futures)
+        parts = [None] * k
+        for future, part in as_completed(futures, with_results=True):
+            parts[where[future.key]] = part
+            future.release()
+    quantiles = {name: (dims, np.concatenate([p[0][name][1] for p in parts], axis=-1))
+                 for name, (dims, _a) in parts[0][0].items()}
+    return quantiles, _member_lines(_unmasked([p[1] for p in parts]))
+
+
 def _run_members(scene, values, scheduler, progress, planned=None):
     """Evaluate the members ``values`` (``{dotted: ndarray (N,)}``) in chunks of
     :data:`CHUNK_MEMBERS`, serially or on dask: ``({name: (dims, ndarray (N, ...))}``, each
@@ -744,16 +902,21 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
 
     spec = scene.uncertain
     sobol = None
+    q = np.asarray(spec["quantiles"])
     if spec.get("sensitivity"):
         values, data, warnings, sobol = _sobol_members(scene, scheduler, progress)
+    elif scheduler is not None and not spec["members"] and _fast(scene):
+        values = sample_inputs(spec)
+        quantiles, warnings = _quantiles_by_depth(scene, values, q, scheduler, progress)
     else:
         values = sample_inputs(spec)
         data, warnings = _run_members(scene, values, scheduler, progress)
     N = len(warnings)
-    q = np.asarray(spec["quantiles"])
     template = _template(scene)
-    out = {name: (("quantile",) + dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
-           for name, (dims, a) in data.items()}
+    if spec.get("sensitivity") or scheduler is None or spec["members"] or not _fast(scene):
+        quantiles = {name: (dims, np.quantile(np.asarray(a, dtype=float), q, axis=0))
+                     for name, (dims, a) in data.items()}
+    out = {name: (("quantile",) + dims, a) for name, (dims, a) in quantiles.items()}
     names = member_names(scene)
     if spec["members"]:
         out.update({f"{name}_members": (("member",) + dims, a)

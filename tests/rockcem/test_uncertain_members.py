@@ -15,7 +15,7 @@ UNIFORM = (lambda lo, hi: {"distribution": "uniform", "lower": lo, "upper": hi})
 #: Every numeric key of a linear sandstone path and its rock state, and one per model.
 SANDSTONE = {
     "name": "members", "lithology": "sandstone",
-    "path": {"max_depth": 3000.0, "depth_step": 100.0},
+    "path": {"max_depth": 5000.0, "depth_step": 100.0},
     "models": {"hs_gassmann": {}, "self_consistent": {"aspect_ratio": 0.108},
                "generalized_gassmann": {},
                "patchy_cement": {}},
@@ -50,17 +50,28 @@ SHALE = {
         "shale.frequency_factor": UNIFORM(0.5e23, 2e23)}}
 
 
-@pytest.mark.parametrize("raw", [SANDSTONE, SHALE], ids=["sandstone", "shale"])
+#: Only keys of the rock (no key of the path or the pressures uncertain).
+ROCK_ONLY = dict(SANDSTONE, uncertain={"samples": 5, "seed": 2, **{
+    k: v for k, v in SANDSTONE["uncertain"].items() if k.startswith("sandstone.")}})
+
+
+def quietly(call, *args):
+    """``call(*args)`` with the validity warnings silenced."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return call(*args)
+
+
+@pytest.mark.parametrize("raw", [SANDSTONE, SHALE, ROCK_ONLY],
+                         ids=["sandstone", "shale", "rock_only"])
 def test_members_together_equal_one_at_a_time(raw):
     """The vectorised members (called directly: no fall-back to the member loop) against each
     member through the scene runner, to 1e-12 relative; the validity lines too."""
     s = scene_from_dict(raw)
     values = sample_inputs(s.uncertain)
     m = s.uncertain["samples"]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        together, w1 = _evaluate_together(s, values, m)
-        each, w2 = _evaluate_each(s, values, m)
+    together, w1 = quietly(_evaluate_together, s, values, m)
+    each, w2 = quietly(_evaluate_each, s, values, m)
     assert together.keys() == each.keys() and len(together) == len(raw["outputs"])
     for name in together:
         assert together[name][0] == each[name][0]
@@ -74,10 +85,77 @@ def test_temperature_of_members_is_the_closed_form():
     """Each member's temperature is T0 + G z (Carcione et al. 2022, eq. 2) of its inputs."""
     s = scene_from_dict(SANDSTONE)
     values = sample_inputs(s.uncertain)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        data, _ = _evaluate_together(s, values, s.uncertain["samples"])
-    z = np.arange(0.0, 3001.0, 100.0)
+    data = quietly(_evaluate_together, s, values, s.uncertain["samples"])[0]
+    z = np.arange(0.0, 5001.0, 100.0)
     want = values["path.surface_temperature"][:, None] \
         + values["path.gradient"][:, None] * z / 1000.0
     np.testing.assert_allclose(data["temperature"][1], want, rtol=1e-14)
+
+
+def test_validity_masks_give_each_members_lines():
+    """The validity rules kept as one bit per (member, depth) and split into depth slices give
+    every member the lines its own values give (all four rules hold somewhere here)."""
+    from rockcem._uncertain import _chunk_arrays, _masked, _member_lines, _unmasked
+
+    s = scene_from_dict(SANDSTONE)
+    values = sample_inputs(s.uncertain)
+    m = s.uncertain["samples"]
+    checks = quietly(_chunk_arrays, s, values, m)[1]
+    parts = [_masked(quietly(_chunk_arrays, s, values, m, sl)[1])
+             for sl in (slice(0, 7), slice(7, 8), slice(8, 51))]
+    want = _member_lines(checks)
+    assert {line.split(" at ")[0] for lines in want for line in lines} >= {
+        "Models 1 and 3 (Krief frame)", "Model 2 (self-consistent)", "Model 4 (patchy cement)",
+        "quartz cement"}
+    assert _member_lines(_unmasked(parts)) == want
+
+
+def test_depth_slices_give_the_quantiles_of_all_members():
+    """The quantiles of each depth slice's members, side by side, equal those of all members
+    at once (bit for bit), and a slice returns quantiles only."""
+    from rockcem._uncertain import _slice_quantiles
+
+    s = scene_from_dict(SANDSTONE)
+    values = sample_inputs(s.uncertain)
+    q = np.array([0.1, 0.5, 0.9])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        whole, _ = _evaluate_together(s, values, s.uncertain["samples"])
+        parts = [_slice_quantiles(s, values, sl, q)[0] for sl in (slice(0, 12), slice(12, 51))]
+    for name, (dims, a) in whole.items():
+        got = np.concatenate([p[name][1] for p in parts], axis=-1)
+        assert got.shape == (3,) + a.shape[1:], name
+        np.testing.assert_array_equal(got, np.quantile(np.asarray(a, dtype=float), q, axis=0),
+                                      err_msg=name)
+
+
+def test_dask_depth_slices_equal_the_serial_run():
+    """On two dask processes (depth slices, quantiles only back) the Dataset and its validity
+    lines are those of the serial run."""
+    pytest.importorskip("dask.distributed")
+    xr = pytest.importorskip("xarray")
+    from rockcem.scene import run_scene
+
+    raw = dict(SANDSTONE, uncertain=dict(SANDSTONE["uncertain"], samples=300))
+    s = scene_from_dict(raw)                                       # two chunks of members
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        serial, on_dask = run_scene(s), run_scene(s, scheduler="local")
+    xr.testing.assert_identical(serial.drop_attrs(), on_dask.drop_attrs())
+    assert serial.attrs["validity_warnings"] == on_dask.attrs["validity_warnings"]
+    for rule in ("Krief frame", "Model 2", "Model 4", "quartz cement at"):
+        assert rule in serial.attrs["validity_warnings"], rule
+
+
+def test_patchy_cement_at_critical_porosity_plus_rounding_is_the_loose_pack():
+    """A member whose IGV at the surface comes out one rounding above its critical porosity
+    (phi0 = 0.41837...) with no pressure and delta = 0 (the validity rule's frame): Model 4's
+    frame there is the Hertz-Mindlin pack at zero pressure, K = G = 0 (eq. D.1), not -4e-15."""
+    from rockcem import materials
+    from rockcem.models import patchy_cement_model
+
+    phic = 0.4183700857363322
+    r = patchy_cement_model(materials.mineral("quartz"), materials.mineral("quartz_cement"),
+                            np.nextafter(phic, 1.0), 0.0, 0.0, materials.fluid("water"),
+                            critical_porosity=phic, delta=0.0)
+    assert float(r.K_dry) == 0.0 and float(r.G_dry) == 0.0
