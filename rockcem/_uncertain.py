@@ -739,19 +739,24 @@ def _quantiles(a, q):
 SLICE_BYTES = 256 * 2 ** 20
 
 
-def _slice_quantiles(scene, values, depths, q):
+def _slice_quantiles(scene, values, depths, q, members_per_call=CHUNK_MEMBERS, bottom=None):
     """Every member at the depths ``depths`` (a slice of the depth axis): the quantiles ``q``
     of each output there, and the member's validity masks there (:func:`_masked`).
 
-    The members run in chunks of :data:`CHUNK_MEMBERS` (:func:`_chunk_arrays`: the rock
-    states down the whole path, the models at these depths only). A quantile at a depth is a
-    function of all members' values at that depth alone, so the slice's quantiles are exactly
-    those of the whole run there.
+    The members run ``members_per_call`` at a time (:func:`_chunk_arrays`: the rock states
+    down to the slice, the models at its depths only); with ``bottom``, the depth of the
+    slice's last node, a linear path is made down to there only (the same nodes and, the
+    kinetics being integrals from the surface, the same values above it). A quantile at a
+    depth is a function of all members' values at that depth alone, so the slice's quantiles
+    are exactly those of the whole run there.
     """
+    if bottom is not None and scene.sections["path"]["kind"] == "linear":
+        sections = dict(scene.sections, path=dict(scene.sections["path"], max_depth=bottom))
+        scene = dataclasses.replace(scene, sections=sections)
     N = len(next(iter(values.values())))
     out, parts = {}, []
-    for a in range(0, N, CHUNK_MEMBERS):
-        b = min(a + CHUNK_MEMBERS, N)
+    for a in range(0, N, members_per_call):
+        b = min(a + members_per_call, N)
         data, checks = _chunk_arrays(scene, {k: v[a:b] for k, v in values.items()}, b - a,
                                      depths)
         for name, (dims, arr) in data.items():
@@ -771,8 +776,8 @@ def _quantiles_by_depth(scene, values, q, scheduler, progress):
 
     Quantiles of member chunks do not merge into those of all members; quantiles of depth
     slices put side by side are those of the whole run, exactly. Each task recomputes the
-    members' rock states down the path (the kinetics integrate from the surface; a few per
-    cent of a member's time) and runs the models only at its depths. There are twice as many
+    members' rock states down to its slice (the kinetics integrate from the surface) and runs
+    the models only at its depths. There are twice as many
     slices as the cluster has worker threads (to balance the load), more if a slice would
     hold more than :data:`SLICE_BYTES` of members' values.
 
@@ -789,7 +794,8 @@ def _quantiles_by_depth(scene, values, q, scheduler, progress):
 
     N = len(next(iter(values.values())))
     first = _chunk_arrays(scene, {k: v[:1] for k, v in values.items()}, 1)[0]
-    n = len(_template(scene)["depth"][1])
+    depth = _template(scene)["depth"][1]
+    n = len(depth)
     per_depth = sum(a.size for _dims, a in first.values()) / n
     if 8 * per_depth * N > MAX_UNCERTAIN_BYTES:
         raise ValueError(f"scene [uncertain]: {N} members take {8 * per_depth * N / 2 ** 30:.3g}"
@@ -802,8 +808,14 @@ def _quantiles_by_depth(scene, values, q, scheduler, progress):
         k = min(n, max(2 * threads, math.ceil(8 * per_depth * N * n / SLICE_BYTES)))
         bounds = np.linspace(0, n, k + 1).round().astype(int)
         slices = [slice(int(a), int(b)) for a, b in zip(bounds, bounds[1:])]
+        # As many (member, depth) points per call of the models as the serial run's chunks
+        # (Model 2's numba kernel takes over from 5e4 points), and each path only down to
+        # its slice.
+        per_call = [max(CHUNK_MEMBERS, CHUNK_MEMBERS * n // (sl.stop - sl.start))
+                    for sl in slices]
+        bottoms = [float(depth[sl.stop - 1]) for sl in slices]
         futures = client.map(_slice_quantiles, [scene] * k, [values] * k, slices, [q] * k,
-                             pure=False)
+                             per_call, bottoms, pure=False)
         where = {f.key: i for i, f in enumerate(futures)}
         if progress:
             from dask.distributed import progress as dask_progress

@@ -112,7 +112,8 @@ def test_validity_masks_give_each_members_lines():
 
 def test_depth_slices_give_the_quantiles_of_all_members():
     """The quantiles of each depth slice's members, side by side, equal those of all members
-    at once (bit for bit), and a slice returns quantiles only."""
+    at once (bit for bit; the first slice's members on paths down to it only, 4 at a time),
+    and a slice returns quantiles only."""
     from rockcem._uncertain import _slice_quantiles
 
     s = scene_from_dict(SANDSTONE)
@@ -121,7 +122,8 @@ def test_depth_slices_give_the_quantiles_of_all_members():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         whole, _ = _evaluate_together(s, values, s.uncertain["samples"])
-        parts = [_slice_quantiles(s, values, sl, q)[0] for sl in (slice(0, 12), slice(12, 51))]
+        parts = [_slice_quantiles(s, values, slice(0, 12), q, 4, 1100.0)[0],   # path to 1.1 km
+                 _slice_quantiles(s, values, slice(12, 51), q)[0]]
     for name, (dims, a) in whole.items():
         got = np.concatenate([p[name][1] for p in parts], axis=-1)
         assert got.shape == (3,) + a.shape[1:], name
