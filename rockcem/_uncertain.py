@@ -900,9 +900,11 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
     ----------
     scene : Scene
     scheduler : None, "local" or str, keyword-only
-        Where the chunks of members run (:func:`rockcem.scene.run_scene`).
+        Where the members run (:func:`rockcem.scene.run_scene`): on dask without ``members``
+        or ``sensitivity``, one task per slice of the depth axis that returns its quantiles
+        only (:func:`_quantiles_by_depth`), else one task per chunk of members.
     progress : bool, keyword-only
-        A progress bar over the chunks.
+        A progress bar over the chunks (or slices).
 
     Returns
     -------
