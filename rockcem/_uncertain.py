@@ -925,9 +925,11 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
     spec = scene.uncertain
     sobol = None
     q = np.asarray(spec["quantiles"])
+    by_depth = (scheduler is not None and not spec.get("sensitivity") and not spec["members"]
+                and _fast(scene))                 # on dask, only the quantiles come back
     if spec.get("sensitivity"):
         values, data, warnings, sobol = _sobol_members(scene, scheduler, progress)
-    elif scheduler is not None and not spec["members"] and _fast(scene):
+    elif by_depth:
         values = sample_inputs(spec)
         quantiles, warnings = _quantiles_by_depth(scene, values, q, scheduler, progress)
     else:
@@ -935,7 +937,7 @@ def evaluate_uncertain(scene, *, scheduler=None, progress=False):
         data, warnings = _run_members(scene, values, scheduler, progress)
     N = len(warnings)
     template = _template(scene)
-    if spec.get("sensitivity") or scheduler is None or spec["members"] or not _fast(scene):
+    if not by_depth:
         quantiles = {name: (dims, _quantiles(a, q)) for name, (dims, a) in data.items()}
     out = {name: (("quantile",) + dims, a) for name, (dims, a) in quantiles.items()}
     names = member_names(scene)
