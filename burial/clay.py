@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 
 from rockcem.constants import GAS_CONSTANT_CAL
-from rockcem.validation import as_array, as_scalar, broadcast, check_positive, check_range
+from rockcem.validation import as_array, broadcast, check_range
 
 from ._integrals import cumulative_arrhenius
+from ._members import member_values
 from .path import BurialPath
 
 __all__ = ["smectite_fraction", "illite_fraction", "MAX_ORDER", "MAX_ACTIVATION_ENERGY"]
@@ -43,12 +44,15 @@ def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
         Temperatures in °C.
     r0 : float or array_like
         Initial smectite fraction, in [0, 1] (0.99 in the worked example).
-    order : float
+    order : float or array_like
         Reaction order :math:`n`, in [1, :data:`MAX_ORDER`]; default 5.
-    activation_energy : float
+    activation_energy : float or array_like
         :math:`E`, kcal/mol, in (0, :data:`MAX_ACTIVATION_ENERGY`]; default 36.
-    frequency_factor : float
+    frequency_factor : float or array_like
         :math:`c`, 1/Myr, ``> 0``; default 1.217e23.
+
+    Every parameter may be an array with one value per path (its shape broadcasts against the
+    path's leading axes; an element refused is named by its index, ``order[2]``).
 
     Returns
     -------
@@ -65,22 +69,29 @@ def smectite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,
     if not isinstance(path, BurialPath):
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
     r0 = check_range("r0", as_array("r0", r0), 0.0, 1.0)
-    n = check_range("order", as_scalar("order", order), 1.0, MAX_ORDER)
-    E = check_range("activation_energy", as_scalar("activation_energy", activation_energy), 0.0,
-                    MAX_ACTIVATION_ENERGY, low_open=True)
-    c = check_positive("frequency_factor", as_scalar("frequency_factor", frequency_factor))
-    broadcast(r0=r0, **{"path (leading axes)": path.temperature[..., 0]})
+    n = member_values("order", order, 1.0, MAX_ORDER)
+    E = member_values("activation_energy", activation_energy, 0.0, MAX_ACTIVATION_ENERGY,
+                      low_open=True)
+    c = member_values("frequency_factor", frequency_factor, 0.0, np.inf, low_open=True,
+                      high_open=True)
+    broadcast(r0=r0, order=n, activation_energy=E, frequency_factor=c,
+              **{"path (leading axes)": path.temperature[..., 0]})
     r0 = np.asarray(r0)[..., None]
     # J or c J may overflow to inf for a huge frequency factor or a path of 10^300 Myr: the
     # limit of a reaction run to completion (r = 0), which the forms below reach; where J = 0
     # or r0 = 0 nothing has reacted (the products are set to 0 rather than inf * 0).
     with np.errstate(over="ignore", invalid="ignore"):
         J = cumulative_arrhenius(path.time, path.temperature, E * 1000.0 / GAS_CONSTANT_CAL)
-        if n == 1.0:
+        c = c[..., None]
+        first = n[..., None] == 1.0
+        if np.all(first):
             return r0 * np.exp(-np.where(J > 0.0, c * J, 0.0))
-        m = n - 1.0
+        m = np.where(first, 1.0, n[..., None] - 1.0)
         z = np.where((J > 0.0) & (r0 > 0.0), m * c * J * r0**m, 0.0)
-        return r0 * (1.0 + z) ** (-1.0 / m)
+        r = r0 * (1.0 + z) ** (-1.0 / m)
+        if np.any(first):
+            r = np.where(first, r0 * np.exp(-np.where(J > 0.0, c * J, 0.0)), r)
+        return r
 
 
 def illite_fraction(path: BurialPath, r0, order=5, activation_energy=36.0,

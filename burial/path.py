@@ -17,6 +17,8 @@ from rockcem.constants import STANDARD_GRAVITY
 from rockcem.validation import (MAX_DENSITY, as_array, as_scalar, broadcast, check_positive,
                                 check_range)
 
+from ._members import element_name, member_values
+
 __all__ = ["BurialPath", "linear_path", "path_from_nodes", "pressures", "Pressures",
            "MAX_TEMPERATURE_C", "MIN_TEMPERATURE_C", "MAX_SURFACE_TEMPERATURE_C", "MAX_DEPTH_M",
            "MAX_TIME_MYR", "MAX_PROFILE_NODES"]
@@ -164,15 +166,21 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
     the present-day depth profile (a package now at depth :math:`z` has been buried for
     :math:`z/S`).
 
+    ``gradient``, ``sedimentation_rate`` and ``surface_temperature`` may be arrays (one value
+    per member of an ensemble, shapes broadcast together to the members' shape ``M``): the
+    path then has leading axes ``M`` in ``time`` and ``temperature``, one path per member on
+    the shared depth nodes, and the burial functions take per-member parameters of shape ``M``
+    against it (:func:`pressures`, :func:`burial.quartz_cement`).
+
     Parameters
     ----------
-    gradient : float
+    gradient : float or array_like
         Geothermal gradient :math:`G`, °C/km, ``> 0`` (20–40 typical); the path must stay at
         or below :data:`MAX_TEMPERATURE_C` down to ``max_depth``.
-    sedimentation_rate : float
+    sedimentation_rate : float or array_like
         Burial rate :math:`S`, m/Myr, ``> 0`` (20–500 typical; 40 in the worked examples); the
         deepest node must be buried within :data:`MAX_TIME_MYR`.
-    surface_temperature : float
+    surface_temperature : float or array_like
         :math:`T_0`, °C, in [:data:`MIN_TEMPERATURE_C`, :data:`MAX_SURFACE_TEMPERATURE_C`]
         (288.15, a surface temperature in kelvin, is refused).
     max_depth : float
@@ -189,46 +197,63 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
     Raises
     ------
     ValueError
-        Naming the argument, before any array is made: a value that is not one finite real
-        number, or out of its range.
+        Naming the argument, before any array is made: a value that is not a finite real
+        number (``max_depth`` and ``depth_step``: one number, the depth nodes every member
+        shares), out of its range, or shapes that do not broadcast; the element of an array is
+        named by its index (``gradient[3]``).
 
     Examples
     --------
     >>> p = linear_path(30.0, 40.0, 15.0, 3000.0, depth_step=1000.0)
     >>> p.time.tolist(), p.temperature.tolist()
     ([0.0, 25.0, 50.0, 75.0], [15.0, 45.0, 75.0, 105.0])
+
+    Two members, gradients 20 and 40 °C/km:
+
+    >>> linear_path([20.0, 40.0], 40.0, 15.0, 2000.0, depth_step=1000.0).temperature.tolist()
+    [[15.0, 35.0, 55.0], [15.0, 55.0, 95.0]]
     """
-    G = check_positive("gradient", as_scalar("gradient", gradient))
-    S = check_positive("sedimentation_rate", as_scalar("sedimentation_rate", sedimentation_rate))
-    T0 = as_scalar("surface_temperature", surface_temperature)
-    if T0 > MAX_SURFACE_TEMPERATURE_C and T0 <= MAX_TEMPERATURE_C + 273.15:
-        raise ValueError(_kelvin_hint("surface_temperature", T0))
-    check_range("surface_temperature", T0, MIN_TEMPERATURE_C, MAX_SURFACE_TEMPERATURE_C)
+    G = member_values("gradient", gradient, 0.0, np.inf, low_open=True, high_open=True)
+    S = member_values("sedimentation_rate", sedimentation_rate, 0.0, np.inf, low_open=True,
+                      high_open=True)
+    T0 = member_values("surface_temperature", surface_temperature, -np.inf, np.inf)
+    kelvin = (T0 > MAX_SURFACE_TEMPERATURE_C) & (T0 <= MAX_TEMPERATURE_C + 273.15)
+    if np.any(kelvin):
+        raise ValueError(_kelvin_hint(element_name("surface_temperature", kelvin),
+                                      float(T0[kelvin].flat[0])))
+    T0 = member_values("surface_temperature", T0, MIN_TEMPERATURE_C, MAX_SURFACE_TEMPERATURE_C)
     zmax = check_range("max_depth", as_scalar("max_depth", max_depth), 0.0, MAX_DEPTH_M,
                        low_open=True)
     dz = check_positive("depth_step", as_scalar("depth_step", depth_step))
+    G, S, T0 = broadcast(gradient=G, sedimentation_rate=S, surface_temperature=T0)
     T_bottom = T0 + G * zmax / 1000.0
-    if T_bottom > MAX_TEMPERATURE_C:
-        raise ValueError(f"gradient {G:g} degC/km takes the path from {T0:g} degC to "
-                         f"{T_bottom:.4g} degC at max_depth {zmax:g} m, above the "
-                         f"{MAX_TEMPERATURE_C:g} degC the kinetics hold to; lower the gradient "
-                         "or max_depth")
-    if zmax / S > MAX_TIME_MYR:
-        raise ValueError(f"sedimentation_rate {S:g} m/Myr takes {zmax / S:.4g} Myr to bury "
-                         f"max_depth {zmax:g} m, longer than the age of the Earth "
-                         f"({MAX_TIME_MYR:g} Myr); is it in m/Myr?")
+    hot = T_bottom > MAX_TEMPERATURE_C
+    if np.any(hot):
+        i = np.argwhere(hot)[0] if hot.ndim else ()
+        raise ValueError(f"{element_name('gradient', hot)} {G[tuple(i)]:g} degC/km takes the "
+                         f"path from {T0[tuple(i)]:g} degC to {T_bottom[tuple(i)]:.4g} degC at "
+                         f"max_depth {zmax:g} m, above the {MAX_TEMPERATURE_C:g} degC the "
+                         "kinetics hold to; lower the gradient or max_depth")
+    old = zmax / S > MAX_TIME_MYR
+    if np.any(old):
+        s_bad = float(S[old].flat[0])
+        raise ValueError(f"{element_name('sedimentation_rate', old)} {s_bad:g} m/Myr takes "
+                         f"{zmax / s_bad:.4g} Myr to bury max_depth {zmax:g} m, longer than the "
+                         f"age of the Earth ({MAX_TIME_MYR:g} Myr); is it in m/Myr?")
     if zmax / dz > MAX_PROFILE_NODES - 1:
         raise ValueError(f"depth_step {dz:g} m gives {zmax / dz + 1:.3g} nodes down to max_depth "
                          f"{zmax:g} m; at most {MAX_PROFILE_NODES} (depth_step >= "
                          f"{zmax / (MAX_PROFILE_NODES - 1):.3g} m)")
     depth = np.arange(0.0, zmax, dz)
     depth = np.append(depth[zmax - depth > 1e-9 * min(dz, zmax)], zmax)
-    time = depth / S
-    if np.any(np.diff(time) <= 0.0):
-        raise ValueError(f"sedimentation_rate {S:g} m/Myr buries the {depth[1]:g} m between the "
-                         "first nodes in no time that a float can hold; lower it or raise "
+    time = depth / S[..., None]
+    still = np.any(np.diff(time, axis=-1) <= 0.0, axis=-1)
+    if np.any(still):
+        raise ValueError(f"{element_name('sedimentation_rate', still)} "
+                         f"{float(S[still].flat[0]):g} m/Myr buries the {depth[1]:g} m between "
+                         "the first nodes in no time that a float can hold; lower it or raise "
                          "depth_step")
-    return _validated(time, depth, T0 + G * depth / 1000.0)
+    return _validated(time, depth, T0[..., None] + G[..., None] * depth / 1000.0)
 
 
 class Pressures(NamedTuple):
@@ -253,10 +278,11 @@ def pressures(path: BurialPath, *, sediment_density=2.5, water_density=1.04) -> 
     Parameters
     ----------
     path : BurialPath
-    sediment_density, water_density : float, keyword-only
+    sediment_density, water_density : float or array_like, keyword-only
         :math:`\bar\rho` and :math:`\bar\rho_w`, g/cm³ (defaults 2.5 and 1.04 as in the paper),
         with ``sediment_density >= water_density > 0``, at most
-        :data:`rockcem.validation.MAX_DENSITY`.
+        :data:`rockcem.validation.MAX_DENSITY`; arrays are one value per path (their shape
+        broadcasts against the path's leading axes; an element refused is named by its index).
 
     Returns
     -------
@@ -270,14 +296,16 @@ def pressures(path: BurialPath, *, sediment_density=2.5, water_density=1.04) -> 
     """
     if not isinstance(path, BurialPath):
         raise ValueError("path must be a burial.BurialPath (see linear_path, path_from_nodes)")
-    rho = check_range("sediment_density", as_scalar("sediment_density", sediment_density), 0.0,
-                      MAX_DENSITY, low_open=True)
-    rho_w = check_range("water_density", as_scalar("water_density", water_density), 0.0,
-                        MAX_DENSITY, low_open=True)
-    if rho_w > rho:
-        raise ValueError("water_density must not exceed sediment_density")
+    rho = member_values("sediment_density", sediment_density, 0.0, MAX_DENSITY, low_open=True)
+    rho_w = member_values("water_density", water_density, 0.0, MAX_DENSITY, low_open=True)
+    rho, rho_w = broadcast(sediment_density=rho, water_density=rho_w)
+    heavy = rho_w > rho
+    if np.any(heavy):
+        raise ValueError(f"{element_name('water_density', heavy)} must not exceed "
+                         f"{element_name('sediment_density', heavy)}")
+    broadcast(sediment_density=rho, **{"path (leading axes)": path.depth[..., 0]})
     factor = 1e-3 * STANDARD_GRAVITY          # MPa per (g/cm3 * m)
-    pc = factor * rho * path.depth
-    ph = factor * rho_w * path.depth
+    pc = factor * rho[..., None] * path.depth
+    ph = factor * rho_w[..., None] * path.depth
     pe = pc - ph
     return Pressures(pc, ph, pe, np.maximum.accumulate(pe, axis=-1))

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from rockcem.constants import SECONDS_PER_MYR
-from rockcem.validation import as_array, as_scalar, broadcast, check_positive, check_range
+from rockcem.validation import as_array, broadcast, check_range
 
 from ._integrals import cumulative_power10
+from ._members import member_values
 from .path import MAX_TEMPERATURE_C, MIN_TEMPERATURE_C, BurialPath
 
 __all__ = ["quartz_cement", "QUARTZ_MOLAR_MASS", "QUARTZ_DENSITY", "MAX_RATE_EXPONENT",
@@ -57,13 +58,17 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
         Fraction :math:`f` of detrital quartz, in [0, 1].
     clay_coating : float or array_like
         Clay-coating factor :math:`\mathcal C`, in [0, 1] (1: no precipitation).
-    rate_constant : float, keyword-only
+    rate_constant : float or array_like, keyword-only
         :math:`a`, mol cm⁻² s⁻¹, ``> 0``; default 1.98e-22.
-    rate_exponent : float, keyword-only
+    rate_exponent : float or array_like, keyword-only
         :math:`b`, °C⁻¹, in (0, :data:`MAX_RATE_EXPONENT`]; default 0.022.
-    start_temperature : float, keyword-only, optional
+    start_temperature : float or array_like, keyword-only, optional
         °C below which no cement forms (the integral only counts the hotter parts of the path),
         in [:data:`burial.path.MIN_TEMPERATURE_C`, :data:`burial.path.MAX_TEMPERATURE_C`].
+
+    Every parameter may be an array with one value per path: its shape broadcasts against the
+    path's leading axes (e.g. the members of :func:`burial.linear_path` given arrays), and an
+    element refused is named by its index (``start_temperature[3]``).
 
     Returns
     -------
@@ -74,9 +79,8 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
     ------
     ValueError
         Naming the argument: a value that is not real (complex, text, None), NaN, out of its
-        range, an array where one number is wanted (``rate_constant``, ``rate_exponent``,
-        ``start_temperature``), or parameters whose shapes do not broadcast with each other
-        and the path's leading axes.
+        range, or parameters whose shapes do not broadcast with each other and the path's
+        leading axes.
 
     Examples
     --------
@@ -95,14 +99,15 @@ def quartz_cement(path: BurialPath, porosity0, grain_size, quartz_fraction, clay
                        np.inf, high_open=True) / 10.0
     f = check_range("quartz_fraction", as_array("quartz_fraction", quartz_fraction), 0.0, 1.0)
     C = check_range("clay_coating", as_array("clay_coating", clay_coating), 0.0, 1.0)
-    a = check_positive("rate_constant", as_scalar("rate_constant", rate_constant))
-    b = check_range("rate_exponent", as_scalar("rate_exponent", rate_exponent), 0.0,
-                    MAX_RATE_EXPONENT, low_open=True)
+    a = member_values("rate_constant", rate_constant, 0.0, np.inf, low_open=True,
+                      high_open=True)
+    b = member_values("rate_exponent", rate_exponent, 0.0, MAX_RATE_EXPONENT, low_open=True)
+    per_path = {"rate_constant": a, "rate_exponent": b}
     if start_temperature is not None:
-        start_temperature = check_range(
-            "start_temperature", as_scalar("start_temperature", start_temperature),
-            MIN_TEMPERATURE_C, MAX_TEMPERATURE_C)
-    broadcast(porosity0=phi0, grain_size=D_cm, quartz_fraction=f, clay_coating=C,
+        start_temperature = member_values("start_temperature", start_temperature,
+                                          MIN_TEMPERATURE_C, MAX_TEMPERATURE_C)
+        per_path["start_temperature"] = start_temperature
+    broadcast(porosity0=phi0, grain_size=D_cm, quartz_fraction=f, clay_coating=C, **per_path,
               **{"path (leading axes)": path.temperature[..., 0]})
     A0 = (1.0 - C) * 6.0 * f / D_cm                                   # cm², V = 1 cm³
     # Extreme but valid inputs (a tiny grain size or porosity0, a huge rate constant, a path of

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rockcem.validation import as_scalar
 from rockcem.variables import build_dataset
 
 from .clay import smectite_fraction
@@ -37,6 +38,13 @@ def _present(path: BurialPath, fields: dict):
     end = {k: np.asarray(v)[..., -1][order] for k, v in fields.items()}
     t = np.broadcast_to(path.time, path.depth.shape)[:, -1][order]
     return depth[order], end, {"burial_time": t}
+
+
+def _densities(sediment_density, water_density):
+    """The two densities as numbers: a path table's leading axis here is its packages, not
+    members, so one density each (per-path densities: :func:`burial.pressures`)."""
+    return {"sediment_density": as_scalar("sediment_density", sediment_density),
+            "water_density": as_scalar("water_density", water_density)}
 
 
 def _dataset(path, fields, attrs):
@@ -65,7 +73,7 @@ def sandstone_state(path: BurialPath, *, porosity0=0.36, grain_size=0.3, quartz_
     igv_final, beta
         As in :func:`burial.intergranular_volume`.
     sediment_density, water_density
-        As in :func:`burial.pressures`, g/cm³.
+        As in :func:`burial.pressures`, g/cm³, one number each.
 
     Returns
     -------
@@ -76,7 +84,7 @@ def sandstone_state(path: BurialPath, *, porosity0=0.36, grain_size=0.3, quartz_
         ``cement_fraction``, ``intergranular_volume``, ``porosity``, ``grain_fraction``,
         ``pore_filled``.
     """
-    p = pressures(path, sediment_density=sediment_density, water_density=water_density)
+    p = pressures(path, **_densities(sediment_density, water_density))
     phip = quartz_cement(path, porosity0, grain_size, quartz_fraction, clay_coating,
                          start_temperature=start_temperature)
     igv = intergranular_volume(porosity0, p.max_effective, igv_final, beta)
@@ -111,7 +119,7 @@ def shale_state(path: BurialPath, *, porosity0=0.35, beta=0.01, r0=0.99, order=5
         deposition), ``temperature``, the pressures, ``porosity``,
         ``smectite_fraction``, ``illite_fraction``.
     """
-    p = pressures(path, sediment_density=sediment_density, water_density=water_density)
+    p = pressures(path, **_densities(sediment_density, water_density))
     r = smectite_fraction(path, r0, order, activation_energy, frequency_factor)
     fields = {
         "temperature": path.temperature, "pressure_confining": p.confining,

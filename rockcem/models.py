@@ -396,8 +396,11 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
                          f"coordination_number and critical_porosity: its radius a/R reaches "
                          f"{float(np.max(alpha)):.3g} > 1")
     K0, G0, Kc, Gc = _shapes(K0=grain.K, G0=grain.G, Kc=cement.K, Gc=cement.G)
-    dry = _patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, phip, limit, scheme, eps, f,
-                         delta)
+    # A porosity the check lets a rounding above phic (the IGV at zero pressure, computed, is
+    # phi0 + 1 ulp) is phic for the frame: its Hill weight 1 - phi/phic would be -1 ulp, and a
+    # frame of zero moduli (no pressure, no delta) would come out at -4e-15 GPa.
+    dry = _patchy_cement(K0, G0, Kc, Gc, np.minimum(phi, phic), phic, n, pressure, phip, limit,
+                         scheme, eps, f, delta)
     beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
     beta = stack_phases(1.0 - beta_c, beta_c)
     K = np.array([grain.K, cement.K])
