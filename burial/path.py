@@ -234,11 +234,13 @@ def linear_path(gradient, sedimentation_rate, surface_temperature, max_depth, *,
                          f"path from {T0[tuple(i)]:g} degC to {T_bottom[tuple(i)]:.4g} degC at "
                          f"max_depth {zmax:g} m, above the {MAX_TEMPERATURE_C:g} degC the "
                          "kinetics hold to; lower the gradient or max_depth")
-    old = zmax / S > MAX_TIME_MYR
+    old = S < zmax / MAX_TIME_MYR            # zmax / S > MAX_TIME_MYR, without overflow
     if np.any(old):
         s_bad = float(S[old].flat[0])
+        with np.errstate(over="ignore"):
+            years = np.float64(zmax) / np.float64(s_bad)
         raise ValueError(f"{element_name('sedimentation_rate', old)} {s_bad:g} m/Myr takes "
-                         f"{zmax / s_bad:.4g} Myr to bury max_depth {zmax:g} m, longer than the "
+                         f"{years:.4g} Myr to bury max_depth {zmax:g} m, longer than the "
                          f"age of the Earth ({MAX_TIME_MYR:g} Myr); is it in m/Myr?")
     if zmax / dz > MAX_PROFILE_NODES - 1:
         raise ValueError(f"depth_step {dz:g} m gives {zmax / dz + 1:.3g} nodes down to max_depth "

@@ -292,6 +292,7 @@ ASPECT = Arg(MIN_ASPECT_RATIO, MAX_ASPECT_RATIO)
 COORD = Arg(0.0, MAX_COORDINATION_NUMBER, True)
 PRESS = Arg(0.0, MAX_PRESSURE_MPA)
 DENS = Arg(0.0, MAX_DENSITY, True, kind="scalar")    # a density > 0
+DENS_PER_PATH = Arg(0.0, MAX_DENSITY, True)           # ... or one per member path
 ROCK_MOD = Arg(0.0, MAX_MODULUS, kind="phases", draw=(1e-3, 1e4))
 MINERAL = Arg(MIN_MODULUS, MAX_MODULUS, draw=(0.1, 1e3))
 
@@ -340,7 +341,7 @@ def _fix_k_sat(kw, draw):
 
 
 def _fix_wet(kw, draw):
-    kw["water_density"] = min(kw["water_density"], kw["sediment_density"])
+    kw["water_density"] = np.minimum(kw["water_density"], kw["sediment_density"])
     return kw
 
 
@@ -547,10 +548,13 @@ SPECS = {
     # burial
     "burial.linear_path": Spec(
         burial.linear_path,
-        {"gradient": Arg(0.0, INF, True, kind="scalar"),
-         "sedimentation_rate": Arg(0.0, INF, True, kind="scalar"),
+        # one value per member (arrays too); valid values drawn where every element of an
+        # array keeps the path within the kinetics' 500 degC and the age of the Earth, so
+        # that valid arrays are answered (extremes are still drawn as bad values)
+        {"gradient": Arg(0.0, INF, True, draw=(0.5, 20.0)),
+         "sedimentation_rate": Arg(0.0, INF, True, draw=(10.0, 1e4)),
          "surface_temperature": Arg(MIN_TEMPERATURE_C, MAX_SURFACE_TEMPERATURE_C,
-                                   kind="scalar"),
+                                    draw=(-2.0, 60.0)),
          "max_depth": Arg(0.0, MAX_DEPTH_M, True, kind="scalar"),
          "depth_step": Arg(0.0, INF, True, kind="scalar", extreme=False)},
         fix=lambda kw, draw: kw | {"depth_step": max(kw["depth_step"], kw["max_depth"] / 1e4)},
@@ -559,24 +563,24 @@ SPECS = {
     "burial.BurialPath": Spec(burial.BurialPath, NODE_ARGS, fix=_fix_nodes),
     "burial.shifted_path": Spec(burial.shifted_path, NODE_ARGS, fix=_fix_shifted),
     "burial.pressures": Spec(
-        burial.pressures, {"sediment_density": DENS,
-                           "water_density": DENS},
-        fixed={"path": PATHS}, fix=_fix_wet, check=_nonneg),
+        burial.pressures, {"sediment_density": DENS_PER_PATH,
+                           "water_density": DENS_PER_PATH},
+        fixed={"path": PATHS}, fix=_fix_wet, check=_nonneg,
+        joint=(r"shapes do not broadcast together: .*path \(leading axes\)",)),
     "burial.quartz_cement": Spec(
         burial.quartz_cement,
         {"porosity0": Arg(0.0, 1.0, True, True), "grain_size": Arg(MIN_GRAIN_SIZE_MM, INF),
          "quartz_fraction": FRAC, "clay_coating": FRAC,
-         "rate_constant": Arg(0.0, INF, True, kind="scalar"),
-         "rate_exponent": Arg(0.0, MAX_RATE_EXPONENT, True, kind="scalar"),
-         "start_temperature": Arg(MIN_TEMPERATURE_C, MAX_TEMPERATURE_C, kind="scalar",
-                                 optional=True)},
+         "rate_constant": Arg(0.0, INF, True),
+         "rate_exponent": Arg(0.0, MAX_RATE_EXPONENT, True),
+         "start_temperature": Arg(MIN_TEMPERATURE_C, MAX_TEMPERATURE_C, optional=True)},
         fixed={"path": PATH},
         check=lambda r, kw: _nonneg(r, kw) or np.all(r <= np.max(kw["porosity0"]))),
     **{f"burial.{name}": Spec(
         getattr(burial, name),
-        {"r0": FRAC, "order": Arg(1.0, MAX_ORDER, kind="scalar"),
-         "activation_energy": Arg(0.0, MAX_ACTIVATION_ENERGY, True, kind="scalar"),
-         "frequency_factor": Arg(0.0, INF, True, kind="scalar")},
+        {"r0": FRAC, "order": Arg(1.0, MAX_ORDER),
+         "activation_energy": Arg(0.0, MAX_ACTIVATION_ENERGY, True),
+         "frequency_factor": Arg(0.0, INF, True)},
         fixed={"path": PATHS}, check=_unit, joint=HORIZONS_JOINT)
        for name in ("smectite_fraction", "illite_fraction")},
     **{f"burial.{name}": Spec(getattr(burial, name), {
