@@ -23,8 +23,9 @@ Each member runs in a fresh process (its peak memory is its own), one core, the 
 interleaved over Omega (other jobs share the machine: the best of the repeats is reported and
 the spread kept). Writes ``benchmarks/results/md_voxel_fe.csv``. Run:
 ``python benchmarks/md_voxel_fe.py [--omega 2 3 4 6] [--repeats 2] [--part full coating]
-[--keep-other-parts]`` (the committed file: ``--part full --repeats 2``, then ``--part coating
---repeats 1 --keep-other-parts``).
+[--keep-other-parts] [--merge-from FILE]`` (the committed file: ``--part full --repeats 2``
+and ``--part coating --repeats 1 --output FILE`` side by side, then ``--part
+--keep-other-parts --merge-from FILE``).
 """
 
 import _common  # noqa: I001  (first: pins threads before numpy is imported)
@@ -56,13 +57,21 @@ def _materials():
     return convert(mineral("quartz"), mineral("quartz_cement"))
 
 
+def _peak_memory_mb():
+    """This process's peak resident memory, MB: ``VmHWM`` of ``/proc/self/status`` (reset by
+    ``exec``, where ``getrusage``'s ``ru_maxrss`` keeps the forking parent's peak)."""
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith("VmHWM:"):
+                return float(line.split()[1]) / 1024.0
+    return float("nan")
+
+
 def one(spec):
     """One voxel member (in this process): ``spec`` holds ``pack`` (a pack file), ``cells``
     (a cement stage file; None: every pore cell cemented; ``"bare"``: none), ``omega``,
     ``slab`` (m), and the options of :func:`md.voxel.voxel_stiffness`. Returns its constants
     (GPa), the voxel fractions, wall time and peak memory."""
-    import resource
-
     from md.cement import cement_lattice
     from md.along_depth import _load_cells
     from md.state import load_pack
@@ -85,7 +94,7 @@ def one(spec):
                dropped_voxels=r.metadata["dropped_voxels"],
                dropped_clusters=r.metadata["dropped_clusters"],
                grain_voxels=float(np.mean(phase == 0)), cement_voxels=float(np.mean(phase == 1)),
-               peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+               peak_rss_mb=_peak_memory_mb())
     return out
 
 
@@ -239,7 +248,9 @@ def main(argv=None):
     parser.add_argument("--knob-omega", type=float, default=4.0)
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--bare-omega", type=float, nargs="*", default=[2.0, 8.0 / 3.0, 4.0])
-    parser.add_argument("--part", nargs="+", default=["full", "coating"])
+    parser.add_argument("--part", nargs="*", default=["full", "coating"])
+    parser.add_argument("--merge-from", default=None,
+                        help="a table this script wrote: its rows of the parts not run now")
     parser.add_argument("--workdir", default=None)
     parser.add_argument("--output", default=None)
     parser.add_argument("--keep-other-parts", action="store_true",
@@ -262,6 +273,9 @@ def main(argv=None):
     if args.keep_other_parts and Path(out).exists():     # the rows of the parts not run now
         old = pd.read_csv(out, comment="#")
         rows = old[~old.part.isin(mine)].to_dict("records") + rows
+    if args.merge_from:
+        other = pd.read_csv(args.merge_from, comment="#")
+        rows = rows + other[~other.part.isin(mine)].to_dict("records")
     table = pd.DataFrame(rows)
     attrs = {**_common.environment_attrs(), **_common.md_source_attrs(),
              "md": "voxel finite elements (md.voxel) on the MD cement lattice's cells; full: "
