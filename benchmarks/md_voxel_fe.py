@@ -94,6 +94,7 @@ def one(spec):
                dropped_voxels=r.metadata["dropped_voxels"],
                dropped_clusters=r.metadata["dropped_clusters"],
                grain_voxels=float(np.mean(phase == 0)), cement_voxels=float(np.mean(phase == 1)),
+               pore_voxels=float(np.mean(phase < 0)),
                peak_rss_mb=_peak_memory_mb())
     return out
 
@@ -158,8 +159,7 @@ def full_part(args, work):
         phi = float(lattice2.porosity.iloc[0])
         beta = float(lattice2.cement_per_solid.iloc[0])
         fr_pack = [(1 - phi) * (1 - beta), (1 - phi) * beta, phi]
-        fr_vox = [r["grain_voxels"], r["cement_voxels"],
-                  1.0 - r["grain_voxels"] - r["cement_voxels"]]
+        fr_vox = [r["grain_voxels"], r["cement_voxels"], r["pore_voxels"]]
         row = {"part": "full", "depth_m": np.nan, "omega": om, **{f"opt_{k}": v for k, v in
                                                                   options.items()}, **r}
         for tag, fr in (("pack", fr_pack), ("voxel", fr_vox)):
@@ -193,7 +193,12 @@ def coating_part(args, work):
     print(f"coating: the scene at {COATING_DEPTHS} m took {time.perf_counter() - t0:.0f} s",
           flush=True)
     chain = next(p for p in folder.iterdir() if (p / "members").is_dir())
-    members = sorted(chain.glob("members/*.nc"))
+    # One member file per depth: the newest (a member made by other md sources stays beside
+    # it; its lattice constants are the same).
+    newest = {}
+    for f in sorted(chain.glob("members/*.nc"), key=lambda p: p.stat().st_mtime):
+        newest[f.name.split("_c")[-1].rsplit("_", 1)[0]] = f
+    members = list(newest.values())
     packs = sorted(chain.glob("pack/reconstruct_*.nc"),
                    key=lambda p: -float(p.name.split("_")[1]))     # IGV falls with depth
     slab = None
