@@ -6,7 +6,7 @@ cells of the MD cement lattice):
 1. ``full``: the pack of ``benchmarks/md_full_cement.py`` (3 x 3 x 10 diameters, seed 0,
    64.5 MPa, reconstructed to IGV 0.2845), its pores full of cement: the five constants against
    the Hashin-Shtrikman bounds of its grains and cement (``rockcem.bounds``; the pack's
-   fractions and the voxel grid's own) and against the lattice's numbers
+   fractions and those of the voxels of the measured band) and against the lattice's numbers
    (``benchmarks/results/md_full_cement.csv``), with the wall time and peak memory of each
    member; at one Omega also the solver's tolerance, the preconditioner and the measured band's
    margin.
@@ -67,6 +67,29 @@ def _peak_memory_mb():
     return float("nan")
 
 
+def _band_fractions(phase, band):
+    """Grain, cement and pore fractions of the voxels of the measured band (node planes
+    ``band``), where the stress and strain are taken."""
+    inner = phase[:, :, band[0]:band[1]]
+    return {"grain_band": float(np.mean(inner == 0)), "cement_band": float(np.mean(inner == 1)),
+            "pore_band": float(np.mean(inner < 0))}
+
+
+def _hs_columns(row, fractions, tag):
+    """Hashin-Shtrikman bounds of quartz grains, quartz cement and empty pores (GPa)."""
+    from rockcem.bounds import hashin_shtrikman
+    from rockcem.materials import mineral
+
+    qz, qc = mineral("quartz"), mineral("quartz_cement")
+    hs = hashin_shtrikman([qz.K, qc.K, 0.0], [qz.G, qc.G, 0.0], fractions)
+    row[f"hs_upper_M_{tag}"] = float(hs.upper.K + 4.0 / 3.0 * hs.upper.G)
+    row[f"hs_lower_M_{tag}"] = float(hs.lower.K + 4.0 / 3.0 * hs.lower.G)
+    row[f"hs_upper_G_{tag}"] = float(hs.upper.G)
+    row[f"hs_lower_G_{tag}"] = float(hs.lower.G)
+    row[f"hs_upper_K_{tag}"] = float(hs.upper.K)
+    return row
+
+
 def one(spec):
     """One voxel member (in this process): ``spec`` holds ``pack`` (a pack file), ``cells``
     (a cement stage file; None: every pore cell cemented; ``"bare"``: none), ``omega``,
@@ -95,6 +118,7 @@ def one(spec):
                dropped_clusters=r.metadata["dropped_clusters"],
                grain_voxels=float(np.mean(phase == 0)), cement_voxels=float(np.mean(phase == 1)),
                pore_voxels=float(np.mean(phase < 0)),
+               **_band_fractions(phase, r.metadata["band"]),
                peak_rss_mb=_peak_memory_mb())
     return out
 
@@ -123,8 +147,6 @@ def _best(rows):
 def full_part(args, work):
     """Part 1: the full-pore sample of md_full_cement at each Omega."""
     import md_full_cement
-    from rockcem.bounds import hashin_shtrikman
-    from rockcem.materials import mineral
 
     from md.state import load_pack
 
@@ -138,7 +160,6 @@ def full_part(args, work):
     committed = pd.read_csv(_common.result_path("md_full_cement", "csv"), comment="#")
     lattice = pd.concat([lattice2, committed]).drop_duplicates("omega", keep="last") \
         .set_index("omega")
-    qz, qc = mineral("quartz"), mineral("quartz_cement")
     base = {"solver": "amg", "rtol": 1e-8, "margin": 0.5}
     specs = [(om, base) for om in args.omega]
     # The knobs at one Omega: tolerance, preconditioner, margin of the measured band.
@@ -159,16 +180,11 @@ def full_part(args, work):
         phi = float(lattice2.porosity.iloc[0])
         beta = float(lattice2.cement_per_solid.iloc[0])
         fr_pack = [(1 - phi) * (1 - beta), (1 - phi) * beta, phi]
-        fr_vox = [r["grain_voxels"], r["cement_voxels"], r["pore_voxels"]]
+        fr_vox = [r["grain_band"], r["cement_band"], r["pore_band"]]
         row = {"part": "full", "depth_m": np.nan, "omega": om, **{f"opt_{k}": v for k, v in
                                                                   options.items()}, **r}
-        for tag, fr in (("pack", fr_pack), ("voxel", fr_vox)):
-            hs = hashin_shtrikman([qz.K, qc.K, 0.0], [qz.G, qc.G, 0.0], fr)
-            row[f"hs_upper_M_{tag}"] = float(hs.upper.K + 4.0 / 3.0 * hs.upper.G)
-            row[f"hs_lower_M_{tag}"] = float(hs.lower.K + 4.0 / 3.0 * hs.lower.G)
-            row[f"hs_upper_G_{tag}"] = float(hs.upper.G)
-            row[f"hs_lower_G_{tag}"] = float(hs.lower.G)
-            row[f"hs_upper_K_{tag}"] = float(hs.upper.K)
+        _hs_columns(row, fr_pack, "pack")
+        _hs_columns(row, fr_vox, "voxel")
         row["lambda_solid"] = row["hs_upper_K_pack"] - 2.0 / 3.0 * row["hs_upper_G_pack"]
         if om in lattice.index:
             for k in CONSTANTS:
@@ -244,7 +260,9 @@ def coating_part(args, work):
             print(f"{meta[i]['part']}: {meta[i]['depth_m']:g} m, Omega {spec['omega']:g} "
                   f"(repeat {rep + 1})", flush=True)
             runs[i].append(run_one(spec))
-    return [{**meta[i], **_best(runs[i])} for i in range(len(specs))]
+    rows = [{**meta[i], **_best(runs[i])} for i in range(len(specs))]
+    return [_hs_columns(r, [r["grain_band"], r["cement_band"], r["pore_band"]], "voxel")
+            for r in rows]
 
 
 def main(argv=None):
