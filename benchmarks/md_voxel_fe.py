@@ -265,6 +265,13 @@ def coating_part(args, work):
             for r in rows]
 
 
+def _made_by(path):
+    """The commit and command a table of this script names in its header."""
+    with open(path) as fh:
+        return "; ".join(line[2:].strip() for line in fh
+                         if line.startswith(("# git_commit", "# command")))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--omega", type=float, nargs="+", default=[2.0, 3.0, 4.0, 6.0])
@@ -307,6 +314,10 @@ def main(argv=None):
              "timing": f"each member in a fresh process on one core, {args.repeats} "
                        "interleaved repeats, best and worst kept; other jobs share the machine",
              "units": "moduli GPa, times s, memory MB"}
+    if args.merge_from:
+        attrs["merged_parts_made_by"] = _made_by(args.merge_from)
+    if args.keep_other_parts and Path(out).exists():
+        attrs["kept_parts_made_by"] = _made_by(out)
     _common.write_csv(table.round({c: 6 for c in table.columns if c != "opt_rtol"}), out,
                       attrs)
     cols = ["part", "depth_m", "omega", "opt_solver", "opt_rtol", "opt_margin", *CONSTANTS,
