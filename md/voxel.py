@@ -1,8 +1,8 @@
 """Voxel finite elements: the static, transversely isotropic stiffness of a digital sample.
 
-The digital-rock standard (Garboczi 1998, NIST IR 6269, Sect. 2 and the program ``elas3d``;
+The digital-rock standard (Garboczi 1998, NIST IR 6269, its elastic finite-element programs;
 Arns et al. 2002, Geophysics 67, 1396): every voxel of the sample is an 8-node trilinear
-hexahedron (an isoparametric brick, Hughes 2000, *The Finite Element Method*, Sect. 3.6) of one
+hexahedron (the isoparametric brick of Hughes 2000, *The Finite Element Method*, Ch. 3) of one
 isotropic material, and the displacement that minimises the elastic energy under a macroscopic
 strain is found by preconditioned conjugate gradients. Here the voxels are the cells of the MD
 cement lattice (:func:`md.cement.cement_lattice`): a cell whose centre is inside a grain is
@@ -19,6 +19,14 @@ node planes half a slab inside the end slabs — the stress the volume mean over
 voxels, the strain the difference of the mean displacements of its two bounding planes. Both
 are then the means over the same volume, exact for a laminate (Backus's average), where a
 least-squares slope through the interior is not.
+
+Limits (docs/studies/md_voxel_fe.md): a cell is one material, so two grains are welded
+wherever their voxels touch — over a disc of radius about :math:`\\sqrt{2hR}` around each
+contact, not the contact's own. Where the pores are full of cement that does not matter (the
+full sample converges to 0.1 % per step of :math:`\\Omega`, at the Hashin–Shtrikman bound), but
+where the load runs through uncemented grain contacts (a coating, a bare pack) the constants are
+far too stiff and converge slowly (7 % per step at :math:`\\Omega` 6 on a coating at
+:math:`S_c` 0.37).
 
 SI units (Pa, kg/m³, m).
 """
@@ -107,8 +115,9 @@ def element_matrices():
     """Stiffness matrices of the unit cube's 8-node trilinear hexahedron for :math:`\\lambda = 1,
     \\mu = 0` and for :math:`\\lambda = 0, \\mu = 1`.
 
-    :math:`K_e = \\int_{V_e} B^T D B\\,dV` (Hughes 2000, eqs. 2.8.29 and 3.6.5; Garboczi 1998,
-    Sect. 2.2, eq. 8) with the isotropic :math:`D = \\lambda\\,\\mathbf 1\\mathbf 1^T + \\mu\\,
+    :math:`K_e = \\int_{V_e} B^T D B\\,dV` (the element stiffness of the displacement method,
+    Hughes 2000, Chs. 2-3; Garboczi 1998's elastic programs minimise the same energy) with
+    the isotropic :math:`D = \\lambda\\,\\mathbf 1\\mathbf 1^T + \\mu\\,
     \\mathrm{diag}(2, 2, 2, 1, 1, 1)` (engineering shear strains), integrated by 2 x 2 x 2
     Gauss–Legendre quadrature (points :math:`\\tfrac12 \\pm \\tfrac{1}{2\\sqrt3}`, weights
     :math:`\\tfrac18`), exact here since the integrand is of degree 2 in each coordinate. For a
@@ -250,8 +259,8 @@ def voxel_stiffness(phase, materials, cell_width, *, slab_thickness, margin=0.5,
 
     Each voxel is an 8-node trilinear hexahedron (:func:`element_matrices`; Garboczi 1998,
     NIST IR 6269; Arns et al. 2002). The sample is periodic in x and y; the displacement is
-    :math:`\\mathbf u = H\\mathbf x + \\mathbf w` with :math:`\\mathbf w` periodic (Garboczi
-    1998, Sect. 2.2: the macroscopic strain enters through the jumps at the periodic sides) and
+    :math:`\\mathbf u = H\\mathbf x + \\mathbf w` with :math:`\\mathbf w` periodic (as in
+    Garboczi 1998: the macroscopic strain enters through the jumps at the periodic sides) and
     :math:`\\mathbf w = 0` on the nodes of the end slabs (the voxels of the bottom and top
     ``slab_thickness``), which so follow the affine displacement :math:`H\\mathbf x` as the end
     slabs of :func:`md.static.static_stiffness` do. Five loads :math:`H` (one entry
