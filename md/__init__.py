@@ -9,7 +9,8 @@ of a pack's core window (:mod:`md.observe`), packs saved to netCDF between stage
 (:mod:`md.state`), the cement lattice with contact, coating, pore-body and pendular growth
 (:mod:`md.cement`), the linearised acoustic stage (:mod:`md.acoustic`; grain–cement interface
 rules in :mod:`md.interface`) with the pulse test (:mod:`md.pulse`) and static moduli
-(:mod:`md.static`), one cemented contact against the cemented-contact theory
+(:mod:`md.static`; or by voxel finite elements on the lattice's cells, :mod:`md.voxel`), one
+cemented contact against the cemented-contact theory
 (:mod:`md.cemented_contact`), and bonded-contact cement with static bulk and shear moduli
 (:mod:`md.bonded`); :mod:`md.calibrate` fits the effective-medium models of :mod:`rockcem` to
 MD results (the one md module that uses rockcem).
@@ -29,6 +30,7 @@ from .protocols import compact, coordination_number, porosity, prepare_pack, set
 from .space import Box
 from .calibrate import write_calibration
 from .state import Pack, load_pack, save_pack
+from .voxel import VoxelPhase, voxel_stiffness
 
 __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_rebuild", "settle",
            "compact", "prepare_pack", "porosity", "coordination_number", "save_pack", "load_pack",
@@ -37,4 +39,4 @@ __all__ = ["QUARTZ", "GrainMaterial", "Box", "Pack", "build_neighbors", "needs_r
            "pulse_test", "static_modulus", "static_moduli", "BondedSystem", "BondedModuli",
            "bond_stiffness", "bonded_system", "bonded_static_moduli", "bonded_moduli",
            "bonded_acoustic_system",
-           "calibrate", "write_calibration"]
+           "calibrate", "write_calibration", "VoxelPhase", "voxel_stiffness"]
