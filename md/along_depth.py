@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["carry_down", "SCHEMES", "MEASURES", "COMPACTIONS", "CEMENT_HISTORIES",
-           "StageFileWarning"]
+           "FULL_SAMPLES", "StageFileWarning"]
 
 
 class StageFileWarning(UserWarning):
@@ -65,6 +65,9 @@ MEASURES = ("static", "pulse")
 #: What the static solve measures: the five constants of the transversely isotropic sample
 #: (:func:`md.static.static_stiffness`) or its vertical P and S moduli alone.
 ANISOTROPY = ("ti", "isotropic")
+#: How a depth whose pores burial fills is measured: voxel finite elements of grain and cement
+#: (:mod:`md.voxel`) or the acoustic stage's lattice (:func:`carry_down`'s ``full_sample``).
+FULL_SAMPLES = ("voxel", "lattice")
 #: Moduli of a member (Pa), each at every resolution: C33 and C44 are ``p_modulus`` and
 #: ``shear_modulus``; C11, C13 and C66 are NaN unless ``anisotropy="ti"``.
 MODULI = ("p_modulus", "shear_modulus", "c11", "c13", "c66")
@@ -210,11 +213,12 @@ def _moduli(system, measure, anisotropy="isotropic"):
 
 
 def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key,
-                 cells_files=None):
+                 cells_files=None, fill=False):
     """One member (a depth's pack, cement fraction, scheme) at every resolution: its moduli
     saved to the stage file ``path`` and returned (a dict of floats; one task of
     :func:`md._tasks.run_tasks`). ``cells_files`` (one per resolution) hold cement grown
-    during burial (:func:`_grown_cement`); without them the pack is cemented afresh."""
+    during burial (:func:`_grown_cement`); without them the pack is cemented afresh. ``fill``:
+    burial's pores are full (the sample is measured as ``options["full_sample"]`` says)."""
     import xarray as xr
 
     from .state import _atomic_netcdf, load_pack
@@ -224,7 +228,7 @@ def _member_task(pack_file, fraction, scheme, omegas, cement, options, path, key
     cells = [None] * len(omegas) if cells_files is None else \
         [_load_cells(f) for f in cells_files]
     if fraction > 0 or (cells[0] is not None and cells[0].any()):
-        res = [_member(pack, fraction, scheme, om, cement, options, c)
+        res = [_member(pack, fraction, scheme, om, cement, options, c, fill=fill)
                for om, c in zip(omegas, cells)]
     else:                       # no cement, no lattice: one solve stands for every resolution
         res = [_member(pack, 0.0, scheme, omegas[0], cement, options)] * len(omegas)
@@ -326,14 +330,27 @@ def _grown_cement(pack, pack_key, fraction, scheme, omega, seed, previous, folde
     return (key, grain, offset), path, window, overflow
 
 
-def _member(pack, fraction, scheme, omega, cement, options, cells=None):
+def _member(pack, fraction, scheme, omega, cement, options, cells=None, fill=False):
     """Moduli of the pack cemented to the cement ``fraction`` (volume per bulk volume of its
     core window) by ``scheme`` at resolution ``omega`` (fill fractions of
     :func:`md.growth.cement_fill`: the volume exactly, a thin coating as a film), or with the
-    given ``cells`` (whole cells grown during burial)."""
+    given ``cells`` (whole cells grown during burial). With ``fill`` (burial's pores full) and
+    ``options["full_sample"] == "voxel"`` every pore cell is cement and the sample is measured
+    by voxel finite elements (:func:`md.voxel.sample_stiffness`)."""
     from .acoustic import acoustic_system
     from .cement import cement_lattice
     from .growth import cement_fill
+
+    if fill and options.get("full_sample", "lattice") == "voxel":
+        from .voxel import sample_stiffness
+
+        lat = cement_lattice(pack, omega)
+        st = sample_stiffness(pack, lat, np.ones(lat.index.size, bool), cement,
+                              slab_thickness=options["slab"] * 2 * pack.radii.max())
+        ti = options.get("anisotropy", "isotropic") == "ti"
+        return {"p_modulus": st.c33, "shear_modulus": st.c44,
+                **({"c11": st.c11, "c13": st.c13, "c66": st.c66} if ti else
+                   {"c11": np.nan, "c13": np.nan, "c66": np.nan}), "density": st.density}
 
     if cells is not None and cells.any() or cells is None and fraction > 0:
         lat = cement_lattice(pack, omega)
@@ -363,8 +380,8 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
                radius_range=(1.35e-4, 1.5e-4), material=None, cement=None, seed=0,
                fall_stiffness_factor=1e-3, resolution=3.0, resolution_check=0.0,
                resolution_check2=0.0, interface="facet", measure="static", anisotropy=None,
-               slab=1.0, strain_step=5e-4, unload_step=1e-4, workdir, scheduler=None, jobs=1,
-               progress=False):
+               slab=1.0, strain_step=5e-4, unload_step=1e-4, full_sample="voxel", workdir,
+               scheduler=None, jobs=1, progress=False):
     """Moduli of one MD pack carried down a burial path and cemented at each depth.
 
     Parameters
@@ -431,6 +448,16 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
         Strain of each compaction and unloading increment (:func:`md.compact`); the stress
         overshoots its target by up to about the P modulus times the step
         (``stress_reached``).
+    full_sample : {"voxel", "lattice"}
+        How a depth whose pores burial fills is measured (:data:`FULL_SAMPLES`): ``"voxel"``
+        (default), every cell of its lattice a trilinear finite element of grain or cement
+        (:func:`md.voxel.sample_stiffness`; a static solve, the moduli within 0.1 % of their
+        resolution limit from Omega 2 on and at the Hashin–Shtrikman bound of the solid:
+        docs/studies/md_voxel_fe.md); ``"lattice"``, the acoustic stage's rigid grains on
+        spring beds and cement lattice, as at every other depth (first order in Omega towards
+        a limit under the bound, without the solid's Poisson coupling:
+        docs/studies/md_full_cement.md). Other depths always take the acoustic stage: voxels
+        would weld every grain contact a cell wide.
     workdir : path
         Folder of the stage files.
     scheduler : str, optional
@@ -548,11 +575,16 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
     pack = prepare_pack(folder / "pack", settle_options=settle_options, progress=progress)
     if not slab > 0:
         raise ValueError(f"slab must be > 0 diameters; got {slab}")
+    if full_sample not in FULL_SAMPLES:
+        raise ValueError(f"full_sample must be one of {FULL_SAMPLES}; got {full_sample!r}")
+    if full_sample == "voxel" and measure != "static":
+        raise ValueError("full_sample 'voxel' is a static solve: use measure 'static', or "
+                         "full_sample 'lattice' with the pulse test")
     lattice_constants(cement, 1.0, rotations=True)     # the rotating lattice takes this cement
     options = {"seed": int(seed), "interface": interface, "measure": measure, "slab": float(slab),
                "cement": [cement.vp, cement.vs, cement.density], "md_source": _source_hash(),
                "compaction": compaction, "cement_history": cement_history,
-               "anisotropy": anisotropy}
+               "anisotropy": anisotropy, "full_sample": full_sample}
     omegas = [float(w) for w in (resolution, resolution_check, resolution_check2) if w]
     n, m = stress.size, len(schemes)
     shape = (n, m)
@@ -612,7 +644,7 @@ def carry_down(max_stress, cement_fraction, *, present_stress=None, intergranula
             done = _saved(path, key, _member_variables())
             if done is None:
                 task = (str(here_file), 0.999 if fill else float(frac[i]), scheme, omegas,
-                        cement, options, str(path), key, cells_files)
+                        cement, options, str(path), key, cells_files, fill)
                 todo.append(task)
                 where[path.name] = (i, k)
             else:

@@ -164,6 +164,7 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                   resolution_check2=params["resolution_check2"],
                   interface=params["interface"], measure=params["measure"],
                   anisotropy=params.get("anisotropy", "ti"),
+                  full_sample=params.get("full_sample", "voxel"),
                   slab=params["slab"], workdir=work, scheduler=scheduler,
                   jobs=max(1, jobs // width), progress=progress and not parallel)
     tasks = [(max_stress[idx], cement_fraction[idx], {**common, "seed": params["seed"] + k})
@@ -226,10 +227,6 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
         models, per_model = {}, {}
         for label, scheme in zip(md_labels(params), params["schemes"]):
             K_dry, G_dry, K_sat, vp, vs, eps, gam, dlt, sound = velocities(scheme)
-            # A frame stiffer than the Hashin-Shtrikman upper bound of its solid and empty
-            # pores is not a rock (a resolution artefact of a nearly filled lattice).
-            with np.errstate(invalid="ignore"):
-                sound &= (K_dry <= upper.K * (1 + 1e-9)) & (G_dry <= upper.G * (1 + 1e-9))
             omegas = [w for w in (params["resolution"], params["resolution_check"],
                                   params["resolution_check2"]) if w]
             if len(omegas) > 1:
@@ -246,6 +243,16 @@ def md_model(depth, present_stress, max_stress, cement_fraction, grain, cement, 
                     else np.full(idx.size, np.nan)          # no three-point check made
             else:                                   # no coarser resolution: no error estimate
                 vp_res = vs_res = asym = np.full(idx.size, np.nan)
+            # A frame stiffer than the Hashin-Shtrikman upper bound of its solid and empty
+            # pores by more than its own resolution error is not a rock (a resolution artefact
+            # of a nearly filled lattice). Within that error it is consistent with the bound:
+            # the voxel finite elements of a full sample (md.voxel) approach it from above, as
+            # a displacement method does (0.01-0.2 %; docs/studies/md_voxel_fe.md). The
+            # moduli's relative error is twice the velocities'.
+            with np.errstate(invalid="ignore", divide="ignore"):
+                slack = 1e-9 + 2.0 * np.nan_to_num(np.fmax(vp_res / np.abs(vp.mean(0)),
+                                                           vs_res / np.abs(vs.mean(0))))
+                sound &= (K_dry <= upper.K * (1 + slack)) & (G_dry <= upper.G * (1 + slack))
             # Sample-size error: standard error of the mean over the independent packs.
             vp_smp, vs_smp = ((v.std(0, ddof=1) / np.sqrt(count)) if count > 1 else
                               np.full(idx.size, np.nan) for v in (vp, vs))
@@ -316,7 +323,14 @@ def saturated_moduli(c, K_min, K_fluid, phi, rho, *, ti=True):
     c33, c44 = c["p_modulus"], c["shear_modulus"]
     K_min, K_fluid, phi, rho = np.broadcast_arrays(K_min, K_fluid, phi, rho, c33)[:4]
     K_dry = c33 - 4.0 / 3.0 * c44
-    K_sat = gassmann(K_dry, K_min, K_fluid, phi)
+    # Without pores (burial's pores full) there is no fluid to substitute: the saturated rock is
+    # the dry one. Gassmann's bound K_dry <= K_min is then not asked of it either: its frame is
+    # the mineral, measured (a voxel sample, md.voxel, is 0.01-0.2 % above its Hashin-Shtrikman
+    # average from above, as a displacement method is); the bounds check is the caller's.
+    full = phi <= 0
+    K_sat = K_dry.copy()
+    if np.any(~full):
+        K_sat[~full] = gassmann(K_dry[~full], K_min[~full], K_fluid[~full], phi[~full])
     vp, vs = np.sqrt((K_sat + 4.0 / 3.0 * c44) / rho), np.sqrt(c44 / rho)
     nan = np.full(c33.shape, np.nan)
     eps, gam, dlt = nan.copy(), nan.copy(), nan.copy()
@@ -328,10 +342,16 @@ def saturated_moduli(c, K_min, K_fluid, phi, rho, *, ti=True):
     with np.errstate(invalid="ignore"):
         sound = (np.isfinite(c11) & np.isfinite(c13) & np.isfinite(c66) & (c11 > c66)
                  & (c13**2 < c33 * (c11 - c66)) & (c44 > 0)
-                 & ((2.0 * c11 + c33 + 2.0 * c12 + 4.0 * c13) / 9.0 <= K_min))
+                 & (((2.0 * c11 + c33 + 2.0 * c12 + 4.0 * c13) / 9.0 <= K_min) | full))
     if np.any(sound):
-        k = sound
-        K_dry[k] = ti_bulk_modulus(c11[k], c13[k], c33[k], c66[k])
+        K_dry[sound] = ti_bulk_modulus(c11[sound], c13[sound], c33[sound], c66[sound])
+        K_sat[sound & full] = K_dry[sound & full]
+        vp[sound & full] = np.sqrt(c33[sound & full] / rho[sound & full])
+        t = thomsen(c11[sound & full], c13[sound & full], c33[sound & full],
+                    c44[sound & full], c66[sound & full])
+        eps[sound & full], gam[sound & full], dlt[sound & full] = t.epsilon, t.gamma, t.delta
+    k = sound & ~full
+    if np.any(k):
         sat = ti_gassmann(c11[k], c13[k], c33[k], c44[k], c66[k], K_min[k], K_fluid[k], phi[k])
         K_sat[k] = ti_bulk_modulus(sat.c11, sat.c13, sat.c33, sat.c66)
         vp[k] = np.sqrt(sat.c33 / rho[k])
@@ -424,7 +444,7 @@ def check_md_table(params, *, cemented=True, intergranular_volume=None) -> dict:
         ``cement_history`` or ``schemes`` not one of their names; ``trust_threshold`` outside
         (0, 1); ``fall_stiffness_factor`` outside (0, 1].
     """
-    from md.along_depth import CEMENT_HISTORIES, COMPACTIONS, MEASURES, SCHEMES
+    from md.along_depth import CEMENT_HISTORIES, COMPACTIONS, FULL_SAMPLES, MEASURES, SCHEMES
     from md.deposit import check_size
     from md.interface import INTERFACES
 
@@ -438,13 +458,16 @@ def check_md_table(params, *, cemented=True, intergranular_volume=None) -> dict:
         raise ValueError(f"radius_spread must lie in [0, 1); got {spread}")
     for key, names in (("interface", INTERFACES), ("measure", MEASURES),
                        ("compaction", COMPACTIONS), ("cement_history", CEMENT_HISTORIES),
-                       ("anisotropy", ("ti", "isotropic"))):
+                       ("anisotropy", ("ti", "isotropic")), ("full_sample", FULL_SAMPLES)):
         value = params.get(key)
         if key in params and value not in names:
             raise ValueError(f"{key} must be one of {', '.join(names)}; got {value!r}")
     if params.get("anisotropy", "ti") == "ti" and params["measure"] != "static":
         raise ValueError(f"measure = {params['measure']!r} needs anisotropy = 'isotropic' (the "
                          "pulse test gives the vertical velocities only; 'ti' needs 'static')")
+    if params.get("full_sample", "voxel") == "voxel" and params["measure"] != "static":
+        raise ValueError(f"full_sample = 'voxel' is a static solve; measure = "
+                         f"{params['measure']!r} needs full_sample = 'lattice'")
     schemes = list(params["schemes"])
     if not schemes or len(set(schemes)) != len(schemes) or any(s not in SCHEMES
                                                                for s in schemes):

@@ -260,6 +260,11 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                            "down, carried with the grains; 'fresh': each depth cemented afresh"),
         "interface": ("facet", "string", "", "grain-cement interface rule (md.interface)"),
         "measure": ("static", "string", "", "'static' moduli (long-wave limit) or 'pulse' test"),
+        "full_sample": ("voxel", "string", "",
+                        "how a depth whose pores burial fills is measured: 'voxel', finite "
+                        "elements of grain and cement on the lattice's cells (md.voxel; within "
+                        "0.1 % of the resolution limit, static only); 'lattice', the rigid "
+                        "grains and cement lattice of every other depth"),
         "slab": (1.0, "number", "grain diameters", "slab thickness of the moduli measurement"),
         "fall_stiffness_factor": (1e-3, "number", "", "contact softening while grains fall"),
         "workdir": (None, "string", "", "folder of the MD stage files (default: "

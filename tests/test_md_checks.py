@@ -46,6 +46,7 @@ def test_a_good_table_reaches_the_settling(tmp_path, no_settling):
     ("interface", "fasset", r"interface must be one of facet, patch, paper; got 'fasset'"),
     ("measure", "pulse", r"measure = 'pulse' needs anisotropy = 'isotropic'"),
     ("anisotropy", "orthorhombic", r"anisotropy must be one of ti, isotropic"),
+    ("full_sample", "voxels", r"full_sample must be one of voxel, lattice; got 'voxels'"),
     ("compaction", "squeeze", r"compaction must be one of reconstruct, hertz"),
     ("cement_history", "old", r"cement_history must be one of grown, fresh"),
     ("trust_threshold", 1.5, r"trust_threshold must lie in \(0, 1\); got 1.5"),
