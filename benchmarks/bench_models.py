@@ -250,17 +250,33 @@ def main(argv=None):
 
 def _load_package(path):
     """Import the rockcem at ``path`` beside the one already imported; returns its models and
-    materials modules (the current package's modules are put back)."""
+    materials modules and a context manager under which its calls must run (the current
+    package's modules are put back).
+
+    The context manager puts the other copy's modules into ``sys.modules`` for the time of a
+    call: a module imported at call time inside the package (``from . import _sc_kernels``,
+    the numba kernel of the self-consistent solver) is looked up there, and would otherwise be
+    this checkout's.
+    """
+    import contextlib
     import importlib
     import sys
 
-    mine = {k: v for k, v in sys.modules.items() if k == "rockcem" or k.startswith("rockcem.")}
+    def ours():
+        return {k: v for k, v in sys.modules.items() if k == "rockcem" or k.startswith("rockcem.")}
+
+    mine = ours()
     for k in mine:
         del sys.modules[k]
     sys.path.insert(0, path)
     try:
         other = importlib.import_module("rockcem.models"), importlib.import_module(
             "rockcem.materials")
+        try:
+            importlib.import_module("rockcem._sc_kernels")
+        except ImportError:
+            pass
+        theirs = ours()
     finally:
         sys.path.remove(path)
         for k in [k for k in sys.modules if k == "rockcem" or k.startswith("rockcem.")]:
@@ -268,7 +284,21 @@ def _load_package(path):
         sys.modules.update(mine)
     if not other[0].__file__.startswith(str(path)):
         raise SystemExit(f"--baseline {path}: imported {other[0].__file__} instead")
-    return other
+
+    @contextlib.contextmanager
+    def active():
+        saved = ours()
+        for k in saved:
+            del sys.modules[k]
+        sys.modules.update(theirs)
+        try:
+            yield
+        finally:
+            for k in ours():
+                del sys.modules[k]
+            sys.modules.update(saved)
+
+    return other + (active,)
 
 
 def _baseline_part(args, state, rows, record):
@@ -277,7 +307,7 @@ def _baseline_part(args, state, rows, record):
 
     from rockcem import materials, models
 
-    base_models, base_materials = _load_package(args.baseline)
+    base_models, base_materials, active = _load_package(args.baseline)
     phi, beta = state["porosity"], state["solid_fractions"]
     phip, pe = state["cement_fraction"], state["effective_pressure"]
 
@@ -291,6 +321,14 @@ def _baseline_part(args, state, rows, record):
                 "patchy_cement": lambda: M.patchy_cement_model(q, c, phi, phip, pe, w)}
 
     mine, base = calls(models, materials), calls(base_models, base_materials)
+
+    def under(fn):
+        def call():
+            with active():
+                return fn()
+        return call
+
+    base = {k: under(fn) for k, fn in base.items()}
     for name in mine:
         with warnings.catch_warnings():
             warnings.simplefilter("error")

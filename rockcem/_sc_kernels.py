@@ -21,6 +21,9 @@ in :math:`A = \mu_i/\mu - 1`, :math:`B = (K_i/K - \mu_i/\mu)/3`,
 :math:`R = 3\mu/(3K + 4\mu)` with coefficients that depend on the aspect ratio alone (``coef``,
 one row per distinct aspect ratio, from ``rockcem.inclusions._spheroid_coefficients``), so that
 their derivatives in :math:`K, \mu` follow by the chain rule through :math:`A, B, R`.
+A pore without shear stiffness (:math:`\mu_i = 0`: a fluid, or empty) has :math:`A = -1` and
+:math:`B = K_i/(3K)`, and the terms that vanish there are skipped (:func:`spheroid_pq_fluid`):
+the saturated and the dry solve of Model 2 evaluate only such spheroids.
 """
 
 from __future__ import annotations
@@ -100,6 +103,68 @@ def spheroid_pq(K, G, Ki, Gi, c, row):
     F7, F7K, F7G = _linear(2.0, A, c[row, 14], c[row, 15], th, R, u, dAG, dRK, dRG, duK, duG)
     F8, F8K, F8G = _linear(0.0, A, c[row, 16], c[row, 17], 1.0 - th, R, u, dAG, dRK, dRG, duK, duG)
     F9, F9K, F9G = _linear(0.0, A, c[row, 18], c[row, 19], th, R, u, dAG, dRK, dRG, duK, duG)
+    return _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+                      F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G)
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def _linear_fluid(d, p, q, w, R, u, dRK, dRG, duK, duG):
+    """``F = d - (p + q R) + w u`` and its derivatives in K and G: :func:`_linear` at A = -1."""
+    return d - p - q * R + w * u, w * duK - q * dRK, w * duG - q * dRG
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def spheroid_pq_fluid(K, G, Ki, c, row):
+    r""":func:`spheroid_pq` of a spheroid without shear stiffness (:math:`\mu_i = 0`: a fluid,
+    or an empty pore with :math:`K_i = 0` too).
+
+    The same equations ([Berryman1980]_, Appendix; [Mavko2009]_ p. 189) at
+    :math:`A = \mu_i/\mu - 1 = -1` and :math:`B = K_i/(3K)`: :math:`\partial_G A = 0`,
+    :math:`\partial_G B = 0`, :math:`W = A(A + 3B) = 1 - 3B`, :math:`\partial_K W =
+    -3\,\partial_K B`, :math:`\partial_G W = 0`; the terms of :func:`spheroid_pq` that these
+    zeros cancel are not evaluated.
+
+    Returns ``(P, dP/dK, dP/dG, Q, dQ/dK, dQ/dG)``.
+    """
+    iK = 1.0 / K
+    iD = 1.0 / (3.0 * K + 4.0 * G)
+    R = 3.0 * G * iD
+    dRK = -9.0 * G * iD * iD
+    dRG = 9.0 * K * iD * iD
+    B = Ki * iK / 3.0
+    dBK = -B * iK
+    cc = 3.0 - 4.0 * R
+    dcK = -4.0 * dRK
+    dcG = -4.0 * dRG
+    u = B * cc
+    duK = dBK * cc + B * dcK
+    duG = B * dcG
+    th = c[row, 20]
+    F1, F1K, F1G = _linear_fluid(1.0, c[row, 0], c[row, 1], 0.0, R, u, dRK, dRG, duK, duG)
+    F2, F2K, F2G = _linear_fluid(1.0, c[row, 2], c[row, 3], 1.0, R, u, dRK, dRG, duK, duG)
+    M = c[row, 4] + c[row, 5] * R
+    W = 1.0 - 3.0 * B
+    WK = -3.0 * dBK
+    F2 += 0.5 * W * cc * M
+    F2K += 0.5 * (WK * cc * M + W * dcK * M + W * cc * c[row, 5] * dRK)
+    F2G += 0.5 * (W * dcG * M + W * cc * c[row, 5] * dRG)
+    F3, F3K, F3G = _linear_fluid(1.0, c[row, 6], c[row, 7], 0.0, R, u, dRK, dRG, duK, duG)
+    F4, F4K, F4G = _linear_fluid(1.0, c[row, 8], c[row, 9], 0.0, R, u, dRK, dRG, duK, duG)
+    F5, F5K, F5G = _linear_fluid(0.0, c[row, 10], c[row, 11], th, R, u, dRK, dRG, duK, duG)
+    F6, F6K, F6G = _linear_fluid(1.0, c[row, 12], c[row, 13], 1.0 - th, R, u, dRK, dRG, duK,
+                                 duG)
+    F7, F7K, F7G = _linear_fluid(2.0, c[row, 14], c[row, 15], th, R, u, dRK, dRG, duK, duG)
+    F8, F8K, F8G = _linear_fluid(0.0, c[row, 16], c[row, 17], 1.0 - th, R, u, dRK, dRG, duK,
+                                 duG)
+    F9, F9K, F9G = _linear_fluid(0.0, c[row, 18], c[row, 19], th, R, u, dRK, dRG, duK, duG)
+    return _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+                      F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G)
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+               F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G):
+    r"""P, Q of :func:`spheroid_pq` and their derivatives from :math:`F_1 \dots F_9` and theirs."""
     i2 = 1.0 / F2
     i3 = 1.0 / F3
     i4 = 1.0 / F4
@@ -286,6 +351,8 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
                         Q = (g + z) * iz
                         QK = zK * dG * iz * iz
                         QG = ((Gi + z) + zG * dG) * iz * iz
+                    elif Gi == 0.0:
+                        P, PK, PG, Q, QK, QG = spheroid_pq_fluid(k, g, Ki, coef, kind[p, i])
                     else:
                         P, PK, PG, Q, QK, QG = spheroid_pq(k, g, Ki, Gi, coef, kind[p, i])
                     r1 += fi * dK * P
