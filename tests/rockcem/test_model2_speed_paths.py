@@ -37,9 +37,12 @@ def test_fluid_spheroid_pq_against_berryman_and_complex_steps(aspect, K_pore, rn
                                    atol=1e-10 * abs(Q))
 
 
-def _profile(n, K_pore, aspect):
+def _profile(n, K_pore, aspect, phi0=0.36):
+    """The sandstone profile of benchmarks/_common.py (porosity ``phi0`` -> 0.02, quartz
+    cement 0.2 s^2) as Model 2's phases: quartz and cement spheres, pores of bulk modulus
+    ``K_pore`` and aspect ratio ``aspect``."""
     s = np.linspace(0.0, 1.0, n)
-    phi = 0.36 - 0.34 * s
+    phi = phi0 - (phi0 - 0.02) * s
     beta_c = 0.2 * s**2 / (1.0 - phi)
     frac = np.stack([(1.0 - phi) * (1.0 - beta_c), (1.0 - phi) * beta_c, phi], -1)
     return (np.array([KQ, KC, K_pore]), np.array([GQ, GC, 0.0]), frac,
@@ -68,3 +71,30 @@ def test_kernel_equals_numpy_path_at_tighter_tolerance(K_pore, monkeypatch):
     np.testing.assert_allclose(fast.G, ref.G, rtol=0.0, atol=1e-11 * KQ)
     if K_pore == 0.0:
         assert np.all(fast.K[fast.G == 0.0] == 0.0) and np.mean(fast.G == 0.0) > 0.1
+
+
+@pytest.mark.parametrize("aspect", [0.108, 0.17, 1.0])
+def test_collapse_ahead_equals_the_full_iteration(aspect):
+    """Dry pores past the shear-percolation porosity: the kernel stops once the damped Newton
+    iteration is in its asymptotic collapse (G a tenth per step) and counts the steps it skips.
+    From the HS bound (no continuation) it gives the numpy path's full iteration exactly: the
+    same collapsed points, (K, G) = (Reuss, 0) = (0, 0) there, the same number of iterations."""
+    kernels = pytest.importorskip("rockcem._sc_kernels")
+    K, G, frac, a = _profile(3000, 0.0, aspect, phi0=0.62)
+    ref, info = self_consistent(K, G, frac, a, engine="numpy", full_output=True)
+    assert 0.05 < np.mean(ref.G == 0.0) < 0.95
+    n = frac.shape[0]
+    out = (np.empty(n), np.empty(n), np.empty(n, dtype=np.int64), np.empty(n),
+           np.empty(n, dtype=np.bool_))
+    th, f = inclusions._theta_f(np.array([aspect]))
+    kind = np.broadcast_to(np.array([-1, -1, -1 if aspect == 1.0 else 0]), frac.shape)
+    kernels.solve_points(np.broadcast_to(K, frac.shape), np.broadcast_to(G, frac.shape), frac,
+                         kind, inclusions._spheroid_coefficients(th, f), 1e-12, 200, False, *out)
+    k, g, iterations, _, done = out
+    assert np.all(done)
+    collapsed = ref.G == 0.0
+    np.testing.assert_array_equal(g == 0.0, collapsed)
+    assert np.all(k[collapsed] == 0.0)
+    np.testing.assert_array_equal(iterations[collapsed], info.iterations[collapsed])
+    np.testing.assert_allclose(k[~collapsed], ref.K[~collapsed], rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(g[~collapsed], ref.G[~collapsed], rtol=1e-10, atol=1e-12)
