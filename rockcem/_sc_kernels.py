@@ -250,35 +250,59 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
     npts, n = K_i.shape
     k1 = k2 = k3 = g1 = g2 = g3 = 0.0
     chain = 0           # converged points before p, each a near neighbour of the one before it
+    # The phases' constants of the bounds, kept while the phases present and their moduli are
+    # those of the point before (an ordered profile): their reciprocals are not recomputed.
+    inv_K = np.zeros(n)
+    inv_Ks = np.zeros(n)
+    inv_Gz = np.zeros(n)
+    scale = K_max = G_max = shift = zeta = 0.0
+    zero_K = False
     for p in range(npts):
-        # Reuss K and the Hashin–Shtrikman upper bound (Berryman's n-phase form, as
-        # rockcem.bounds.hashin_shtrikman; extremes over the phases present), largest phase K.
-        K_max = -np.inf
-        G_max = -np.inf
-        scale = -np.inf
+        same = p > 0
+        if same:
+            for i in range(n):
+                if (K_i[p, i] != K_i[p - 1, i] or G_i[p, i] != G_i[p - 1, i]
+                        or (frac[p, i] > 0.0) != (frac[p - 1, i] > 0.0)):
+                    same = False
+                    break
+        if not same:
+            # Largest phase K; extremes over the phases present (as
+            # rockcem.bounds.hashin_shtrikman); reciprocals of the Reuss and HS terms.
+            K_max = -np.inf
+            G_max = -np.inf
+            scale = -np.inf
+            zero_K = False
+            for i in range(n):
+                scale = max(scale, K_i[p, i])
+                if frac[p, i] > 0.0:
+                    K_max = max(K_max, K_i[p, i])
+                    G_max = max(G_max, G_i[p, i])
+                    if K_i[p, i] > 0.0:
+                        inv_K[i] = 1.0 / K_i[p, i]
+                    else:
+                        inv_K[i] = 0.0
+                        zero_K = True
+            if G_max > 0.0:
+                shift = 4.0 / 3.0 * G_max
+                zeta = G_max / 6.0 * (9.0 * K_max + 8.0 * G_max) / (K_max + 2.0 * G_max)
+                for i in range(n):
+                    inv_Ks[i] = 1.0 / (K_i[p, i] + shift)
+                    inv_Gz[i] = 1.0 / (G_i[p, i] + zeta)
+        # Reuss K and the Hashin–Shtrikman upper bound (Berryman's n-phase form).
         s_reuss = 0.0
-        zero_K = False
         for i in range(n):
-            scale = max(scale, K_i[p, i])
             if frac[p, i] > 0.0:
-                K_max = max(K_max, K_i[p, i])
-                G_max = max(G_max, G_i[p, i])
-                if K_i[p, i] > 0.0:
-                    s_reuss += frac[p, i] / K_i[p, i]
-                else:
-                    zero_K = True
+                s_reuss += frac[p, i] * inv_K[i]
         K_reuss = 0.0 if (zero_K or not s_reuss < np.inf) else 1.0 / s_reuss
         K_up = 0.0
         G_up = 0.0
         if G_max > 0.0:
-            shift = 4.0 / 3.0 * G_max
-            zeta = G_max / 6.0 * (9.0 * K_max + 8.0 * G_max) / (K_max + 2.0 * G_max)
             sk = 0.0
             sg = 0.0
             for i in range(n):
                 if frac[p, i] > 0.0:
-                    sk += frac[p, i] / (K_i[p, i] + shift)
-                    sg += frac[p, i] / (G_i[p, i] + zeta)
+                    sk += frac[p, i] * inv_Ks[i]
+                    sg += frac[p, i] * inv_Gz[i]
             K_up = max(1.0 / sk - shift, 0.0)
             G_up = max(1.0 / sg - zeta, 0.0)
         if not G_up > 0.0:

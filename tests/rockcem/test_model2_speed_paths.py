@@ -119,3 +119,24 @@ def test_model2_density_checks_kept():
     r = self_consistent_model([quartz], [1.0], [0.1, 0.2], Fluid(KW, [1.0, 1.1]), **kw)
     np.testing.assert_allclose(r.density, [0.9 * 2.65 + 0.1 * 1.0, 0.8 * 2.65 + 0.2 * 1.1],
                                rtol=1e-15)
+
+
+def test_kernel_bounds_follow_the_phases_present(monkeypatch):
+    """The kernel keeps the bounds' phase constants from one point to the next while the
+    moduli and the phases present are the same: a row with the stiffest phase after rows
+    without it (its HS upper bound, else one from the soft phase's shear modulus, below the
+    solution), and dry rows after rows without pores (Reuss K = 0 at the collapse), each
+    give their own solution (the numpy path at tol = 1e-14)."""
+    pytest.importorskip("numba")
+    K = np.array([KQ, 20.0, 0.0])
+    G = np.array([GQ, 0.5, 0.0])
+    frac = np.array([[0.0, 1.0, 0.0], [0.0, 0.3, 0.7], [0.0, 0.9, 0.1], [0.7, 0.2, 0.1]] * 50)
+    a = np.array([1.0, 1.0, 0.108])
+    monkeypatch.setattr(inclusions, "_NUMBA_MIN_POINTS", 0)
+    fast = self_consistent(K, G, frac, a)
+    monkeypatch.setattr(inclusions, "_NUMBA_MIN_POINTS", 2**62)
+    ref = self_consistent(K, G, frac, a, tol=1e-14)
+    assert np.all(ref.G[1::4] == 0.0) and np.all(ref.K[1::4] == 0.0)
+    assert np.all(ref.G[3::4] > 10.0)
+    np.testing.assert_allclose(fast.K, ref.K, rtol=1e-11, atol=0.0)
+    np.testing.assert_allclose(fast.G, ref.G, rtol=1e-11, atol=0.0)
