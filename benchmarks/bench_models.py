@@ -77,6 +77,7 @@ def main(argv=None):
     def record(case, kind, n, best, times, warns, tol=np.nan, status="ok", note=""):
         rows.append({"case": case, "kind": kind, "n_points": int(n), "best_s": best,
                      "runs": len(times), "mean_s": float(np.mean(times)) if times else np.nan,
+                     "median_s": float(np.median(times)) if times else np.nan,
                      "points_per_s": n / best if best > 0 else np.nan, "tol": tol,
                      "status": status, "warnings": " | ".join(warns), "note": note})
         print(f"{case:32s} n={n:>8d}  best {best:9.4f} s  {n / best:12.4g} points/s"
@@ -227,6 +228,8 @@ def main(argv=None):
                           {"units": "s", "long_name": "best wall time of the timed runs"}),
             "mean_time": ("case", frame["mean_s"].values,
                           {"units": "s", "long_name": "mean wall time of the timed runs"}),
+            "median_time": ("case", frame["median_s"].values,
+                            {"units": "s", "long_name": "median wall time of the timed runs"}),
             "runs": ("case", frame["runs"].values.astype("int64"),
                      {"units": "1", "long_name": "number of timed runs"}),
             "points_per_second": ("case", frame["points_per_s"].values,
@@ -342,13 +345,16 @@ def _baseline_part(args, state, rows, record):
                 fn()
                 times[who].append(time.perf_counter() - t0)
         best, best_base = min(times["this"]), min(times["baseline"])
+        med, med_base = np.median(times["this"]), np.median(times["baseline"])
         note = (f"interleaved with --baseline {args.baseline}: {best_base:.4f} s there, "
-                f"{best_base / best:.2f}x; max rel. difference of the outputs {diff:.2g}")
+                f"{best_base / best:.2f}x (medians {med_base:.4f} / {med:.4f} s, "
+                f"{med_base / med:.2f}x); max rel. difference of the outputs {diff:.2g}")
         record(f"{name}_baseline", "model_baseline", args.n, best_base, times["baseline"], [],
                note=f"the --baseline copy, interleaved with {name}_interleaved")
         record(f"{name}_interleaved", "model_interleaved", args.n, best, times["this"], [],
                note=note)
         print(f"{name:22s} this {best:.4f} s, baseline {best_base:.4f} s: {best_base / best:.2f}x"
+              f"; medians {med:.4f} / {med_base:.4f} s: {med_base / med:.2f}x"
               f" (outputs within {diff:.2g})", flush=True)
 
 
