@@ -77,6 +77,7 @@ def main(argv=None):
     def record(case, kind, n, best, times, warns, tol=np.nan, status="ok", note=""):
         rows.append({"case": case, "kind": kind, "n_points": int(n), "best_s": best,
                      "runs": len(times), "mean_s": float(np.mean(times)) if times else np.nan,
+                     "median_s": float(np.median(times)) if times else np.nan,
                      "points_per_s": n / best if best > 0 else np.nan, "tol": tol,
                      "status": status, "warnings": " | ".join(warns), "note": note})
         print(f"{case:32s} n={n:>8d}  best {best:9.4f} s  {n / best:12.4g} points/s"
@@ -227,6 +228,8 @@ def main(argv=None):
                           {"units": "s", "long_name": "best wall time of the timed runs"}),
             "mean_time": ("case", frame["mean_s"].values,
                           {"units": "s", "long_name": "mean wall time of the timed runs"}),
+            "median_time": ("case", frame["median_s"].values,
+                            {"units": "s", "long_name": "median wall time of the timed runs"}),
             "runs": ("case", frame["runs"].values.astype("int64"),
                      {"units": "1", "long_name": "number of timed runs"}),
             "points_per_second": ("case", frame["points_per_s"].values,
@@ -250,17 +253,33 @@ def main(argv=None):
 
 def _load_package(path):
     """Import the rockcem at ``path`` beside the one already imported; returns its models and
-    materials modules (the current package's modules are put back)."""
+    materials modules and a context manager under which its calls must run (the current
+    package's modules are put back).
+
+    The context manager puts the other copy's modules into ``sys.modules`` for the time of a
+    call: a module imported at call time inside the package (``from . import _sc_kernels``,
+    the numba kernel of the self-consistent solver) is looked up there, and would otherwise be
+    this checkout's.
+    """
+    import contextlib
     import importlib
     import sys
 
-    mine = {k: v for k, v in sys.modules.items() if k == "rockcem" or k.startswith("rockcem.")}
+    def ours():
+        return {k: v for k, v in sys.modules.items() if k == "rockcem" or k.startswith("rockcem.")}
+
+    mine = ours()
     for k in mine:
         del sys.modules[k]
     sys.path.insert(0, path)
     try:
         other = importlib.import_module("rockcem.models"), importlib.import_module(
             "rockcem.materials")
+        try:
+            importlib.import_module("rockcem._sc_kernels")
+        except ImportError:
+            pass
+        theirs = ours()
     finally:
         sys.path.remove(path)
         for k in [k for k in sys.modules if k == "rockcem" or k.startswith("rockcem.")]:
@@ -268,7 +287,21 @@ def _load_package(path):
         sys.modules.update(mine)
     if not other[0].__file__.startswith(str(path)):
         raise SystemExit(f"--baseline {path}: imported {other[0].__file__} instead")
-    return other
+
+    @contextlib.contextmanager
+    def active():
+        saved = ours()
+        for k in saved:
+            del sys.modules[k]
+        sys.modules.update(theirs)
+        try:
+            yield
+        finally:
+            for k in ours():
+                del sys.modules[k]
+            sys.modules.update(saved)
+
+    return other + (active,)
 
 
 def _baseline_part(args, state, rows, record):
@@ -277,7 +310,7 @@ def _baseline_part(args, state, rows, record):
 
     from rockcem import materials, models
 
-    base_models, base_materials = _load_package(args.baseline)
+    base_models, base_materials, active = _load_package(args.baseline)
     phi, beta = state["porosity"], state["solid_fractions"]
     phip, pe = state["cement_fraction"], state["effective_pressure"]
 
@@ -291,6 +324,14 @@ def _baseline_part(args, state, rows, record):
                 "patchy_cement": lambda: M.patchy_cement_model(q, c, phi, phip, pe, w)}
 
     mine, base = calls(models, materials), calls(base_models, base_materials)
+
+    def under(fn):
+        def call():
+            with active():
+                return fn()
+        return call
+
+    base = {k: under(fn) for k, fn in base.items()}
     for name in mine:
         with warnings.catch_warnings():
             warnings.simplefilter("error")
@@ -304,13 +345,16 @@ def _baseline_part(args, state, rows, record):
                 fn()
                 times[who].append(time.perf_counter() - t0)
         best, best_base = min(times["this"]), min(times["baseline"])
+        med, med_base = np.median(times["this"]), np.median(times["baseline"])
         note = (f"interleaved with --baseline {args.baseline}: {best_base:.4f} s there, "
-                f"{best_base / best:.2f}x; max rel. difference of the outputs {diff:.2g}")
+                f"{best_base / best:.2f}x (medians {med_base:.4f} / {med:.4f} s, "
+                f"{med_base / med:.2f}x); max rel. difference of the outputs {diff:.2g}")
         record(f"{name}_baseline", "model_baseline", args.n, best_base, times["baseline"], [],
                note=f"the --baseline copy, interleaved with {name}_interleaved")
         record(f"{name}_interleaved", "model_interleaved", args.n, best, times["this"], [],
                note=note)
         print(f"{name:22s} this {best:.4f} s, baseline {best_base:.4f} s: {best_base / best:.2f}x"
+              f"; medians {med:.4f} / {med_base:.4f} s: {med_base / med:.2f}x"
               f" (outputs within {diff:.2g})", flush=True)
 
 

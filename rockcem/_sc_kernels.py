@@ -21,6 +21,9 @@ in :math:`A = \mu_i/\mu - 1`, :math:`B = (K_i/K - \mu_i/\mu)/3`,
 :math:`R = 3\mu/(3K + 4\mu)` with coefficients that depend on the aspect ratio alone (``coef``,
 one row per distinct aspect ratio, from ``rockcem.inclusions._spheroid_coefficients``), so that
 their derivatives in :math:`K, \mu` follow by the chain rule through :math:`A, B, R`.
+A pore without shear stiffness (:math:`\mu_i = 0`: a fluid, or empty) has :math:`A = -1` and
+:math:`B = K_i/(3K)`, and the terms that vanish there are skipped (:func:`spheroid_pq_fluid`):
+the saturated and the dry solve of Model 2 evaluate only such spheroids.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ _EPS = np.finfo(np.float64).eps
 _TINY = np.finfo(np.float64).tiny
 _NEAR = 0.05          # largest fraction change for a continuation start
 _CONT_ITER = 10       # iterations allowed from a continuation start before falling back
+_ASYMPTOTIC = 1e-3    # the collapse ahead: Newton targets below this fraction of the moduli
 
 
 @njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
@@ -100,6 +104,68 @@ def spheroid_pq(K, G, Ki, Gi, c, row):
     F7, F7K, F7G = _linear(2.0, A, c[row, 14], c[row, 15], th, R, u, dAG, dRK, dRG, duK, duG)
     F8, F8K, F8G = _linear(0.0, A, c[row, 16], c[row, 17], 1.0 - th, R, u, dAG, dRK, dRG, duK, duG)
     F9, F9K, F9G = _linear(0.0, A, c[row, 18], c[row, 19], th, R, u, dAG, dRK, dRG, duK, duG)
+    return _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+                      F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G)
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def _linear_fluid(d, p, q, w, R, u, dRK, dRG, duK, duG):
+    """``F = d - (p + q R) + w u`` and its derivatives in K and G: :func:`_linear` at A = -1."""
+    return d - p - q * R + w * u, w * duK - q * dRK, w * duG - q * dRG
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def spheroid_pq_fluid(K, G, Ki, c, row):
+    r""":func:`spheroid_pq` of a spheroid without shear stiffness (:math:`\mu_i = 0`: a fluid,
+    or an empty pore with :math:`K_i = 0` too).
+
+    The same equations ([Berryman1980]_, Appendix; [Mavko2009]_ p. 189) at
+    :math:`A = \mu_i/\mu - 1 = -1` and :math:`B = K_i/(3K)`: :math:`\partial_G A = 0`,
+    :math:`\partial_G B = 0`, :math:`W = A(A + 3B) = 1 - 3B`, :math:`\partial_K W =
+    -3\,\partial_K B`, :math:`\partial_G W = 0`; the terms of :func:`spheroid_pq` that these
+    zeros cancel are not evaluated.
+
+    Returns ``(P, dP/dK, dP/dG, Q, dQ/dK, dQ/dG)``.
+    """
+    iK = 1.0 / K
+    iD = 1.0 / (3.0 * K + 4.0 * G)
+    R = 3.0 * G * iD
+    dRK = -9.0 * G * iD * iD
+    dRG = 9.0 * K * iD * iD
+    B = Ki * iK / 3.0
+    dBK = -B * iK
+    cc = 3.0 - 4.0 * R
+    dcK = -4.0 * dRK
+    dcG = -4.0 * dRG
+    u = B * cc
+    duK = dBK * cc + B * dcK
+    duG = B * dcG
+    th = c[row, 20]
+    F1, F1K, F1G = _linear_fluid(1.0, c[row, 0], c[row, 1], 0.0, R, u, dRK, dRG, duK, duG)
+    F2, F2K, F2G = _linear_fluid(1.0, c[row, 2], c[row, 3], 1.0, R, u, dRK, dRG, duK, duG)
+    M = c[row, 4] + c[row, 5] * R
+    W = 1.0 - 3.0 * B
+    WK = -3.0 * dBK
+    F2 += 0.5 * W * cc * M
+    F2K += 0.5 * (WK * cc * M + W * dcK * M + W * cc * c[row, 5] * dRK)
+    F2G += 0.5 * (W * dcG * M + W * cc * c[row, 5] * dRG)
+    F3, F3K, F3G = _linear_fluid(1.0, c[row, 6], c[row, 7], 0.0, R, u, dRK, dRG, duK, duG)
+    F4, F4K, F4G = _linear_fluid(1.0, c[row, 8], c[row, 9], 0.0, R, u, dRK, dRG, duK, duG)
+    F5, F5K, F5G = _linear_fluid(0.0, c[row, 10], c[row, 11], th, R, u, dRK, dRG, duK, duG)
+    F6, F6K, F6G = _linear_fluid(1.0, c[row, 12], c[row, 13], 1.0 - th, R, u, dRK, dRG, duK,
+                                 duG)
+    F7, F7K, F7G = _linear_fluid(2.0, c[row, 14], c[row, 15], th, R, u, dRK, dRG, duK, duG)
+    F8, F8K, F8G = _linear_fluid(0.0, c[row, 16], c[row, 17], 1.0 - th, R, u, dRK, dRG, duK,
+                                 duG)
+    F9, F9K, F9G = _linear_fluid(0.0, c[row, 18], c[row, 19], th, R, u, dRK, dRG, duK, duG)
+    return _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+                      F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G)
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=_FAST)
+def _pq_from_f(F1, F1K, F1G, F2, F2K, F2G, F3, F3K, F3G, F4, F4K, F4G, F5, F5K, F5G,
+               F6, F6K, F6G, F7, F7K, F7G, F8, F8K, F8G, F9, F9K, F9G):
+    r"""P, Q of :func:`spheroid_pq` and their derivatives from :math:`F_1 \dots F_9` and theirs."""
     i2 = 1.0 / F2
     i3 = 1.0 / F3
     i4 = 1.0 / F4
@@ -161,41 +227,82 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
     as converged by the same test. ``done[p]`` is False where the point did not converge in
     ``max_iter`` iterations (or the iteration produced a non-finite value); the caller raises.
 
+    The collapse ahead. Where no shear stiffness percolates (empty pores past the
+    percolation porosity) the iteration goes to :math:`(K, \\mu) \\to 0`, a tenth per step,
+    until :math:`\\mu < 10^{-12} \\max_i K_i`: 10–13 steps of damping. Near 0 the residual of
+    eq. 8 along a ray :math:`x = s\\hat x` is :math:`F = sF_1(\\hat x) + s^2F_2(\\hat x) + O(s^3)`
+    (for :math:`K, \\mu \\ll K_i, \\mu_i` a solid sphere contributes
+    :math:`(K_i - K)P_i \\to K + \\tfrac43\\mu` and an empty pore :math:`-KP(\\mu/K)`:
+    homogeneous of degree 1), so by Euler's relation :math:`J_1x = F_1`,
+    :math:`J_2x = 2F_2` the Newton target is
+    :math:`x - J^{-1}F = \\tfrac{s^2}{2}J_1^{-1}J_2\\hat x + O(s^3)`: a fraction :math:`\\propto s`
+    of :math:`x`, which the damping cuts to :math:`x/10`, keeping :math:`\\hat x`; the next
+    fraction is a tenth of this one, and so on. Once both targets are below
+    ``_ASYMPTOTIC`` (1e-3) of the moduli and a tenth (±1 %) of the previous step's, and
+    :math:`\\mu < 10^{-3}\\max_i K_i`, the kernel counts the steps left (the same products
+    ``0.1 * g`` the iteration would form, within ``max_iter``) and sets the collapse: the same
+    result and iteration count as the full iteration (tests/rockcem/test_model2_speed_paths.py;
+    about half the iterations of Model 2's dry solve).
+
     One function on purpose: helpers taking the arrays, even inlined, cost atomic reference
     counts at every call (about 0.2 µs per point, as much as a Newton iteration).
     """
     npts, n = K_i.shape
     k1 = k2 = k3 = g1 = g2 = g3 = 0.0
     chain = 0           # converged points before p, each a near neighbour of the one before it
+    # The phases' constants of the bounds, kept while the phases present and their moduli are
+    # those of the point before (an ordered profile): their reciprocals are not recomputed.
+    inv_K = np.zeros(n)
+    inv_Ks = np.zeros(n)
+    inv_Gz = np.zeros(n)
+    scale = K_max = G_max = shift = zeta = 0.0
+    zero_K = False
     for p in range(npts):
-        # Reuss K and the Hashin–Shtrikman upper bound (Berryman's n-phase form, as
-        # rockcem.bounds.hashin_shtrikman; extremes over the phases present), largest phase K.
-        K_max = -np.inf
-        G_max = -np.inf
-        scale = -np.inf
+        same = p > 0
+        if same:
+            for i in range(n):
+                if (K_i[p, i] != K_i[p - 1, i] or G_i[p, i] != G_i[p - 1, i]
+                        or (frac[p, i] > 0.0) != (frac[p - 1, i] > 0.0)):
+                    same = False
+                    break
+        if not same:
+            # Largest phase K; extremes over the phases present (as
+            # rockcem.bounds.hashin_shtrikman); reciprocals of the Reuss and HS terms.
+            K_max = -np.inf
+            G_max = -np.inf
+            scale = -np.inf
+            zero_K = False
+            for i in range(n):
+                scale = max(scale, K_i[p, i])
+                if frac[p, i] > 0.0:
+                    K_max = max(K_max, K_i[p, i])
+                    G_max = max(G_max, G_i[p, i])
+                    if K_i[p, i] > 0.0:
+                        inv_K[i] = 1.0 / K_i[p, i]
+                    else:
+                        inv_K[i] = 0.0
+                        zero_K = True
+            if G_max > 0.0:
+                shift = 4.0 / 3.0 * G_max
+                zeta = G_max / 6.0 * (9.0 * K_max + 8.0 * G_max) / (K_max + 2.0 * G_max)
+                for i in range(n):
+                    inv_Ks[i] = 1.0 / (K_i[p, i] + shift)
+                    inv_Gz[i] = 1.0 / (G_i[p, i] + zeta)
+        # Reuss K and the Hashin–Shtrikman upper bound (Berryman's n-phase form).
         s_reuss = 0.0
-        zero_K = False
         for i in range(n):
-            scale = max(scale, K_i[p, i])
             if frac[p, i] > 0.0:
-                K_max = max(K_max, K_i[p, i])
-                G_max = max(G_max, G_i[p, i])
-                if K_i[p, i] > 0.0:
-                    s_reuss += frac[p, i] / K_i[p, i]
-                else:
-                    zero_K = True
+                s_reuss += frac[p, i] * inv_K[i]
         K_reuss = 0.0 if (zero_K or not s_reuss < np.inf) else 1.0 / s_reuss
         K_up = 0.0
         G_up = 0.0
         if G_max > 0.0:
-            shift = 4.0 / 3.0 * G_max
-            zeta = G_max / 6.0 * (9.0 * K_max + 8.0 * G_max) / (K_max + 2.0 * G_max)
             sk = 0.0
             sg = 0.0
             for i in range(n):
                 if frac[p, i] > 0.0:
-                    sk += frac[p, i] / (K_i[p, i] + shift)
-                    sg += frac[p, i] / (G_i[p, i] + zeta)
+                    sk += frac[p, i] * inv_Ks[i]
+                    sg += frac[p, i] * inv_Gz[i]
             K_up = max(1.0 / sk - shift, 0.0)
             G_up = max(1.0 / sg - zeta, 0.0)
         if not G_up > 0.0:
@@ -254,6 +361,8 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
                 limit = max_iter
             status = _FAILED
             rel = np.inf
+            tk_prev = np.inf
+            tg_prev = np.inf
             it = 0
             while it < limit:
                 it += 1
@@ -286,6 +395,8 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
                         Q = (g + z) * iz
                         QK = zK * dG * iz * iz
                         QG = ((Gi + z) + zG * dG) * iz * iz
+                    elif Gi == 0.0:
+                        P, PK, PG, Q, QK, QG = spheroid_pq_fluid(k, g, Ki, coef, kind[p, i])
                     else:
                         P, PK, PG, Q, QK, QG = spheroid_pq(k, g, Ki, Gi, coef, kind[p, i])
                     r1 += fi * dK * P
@@ -300,12 +411,37 @@ def solve_points(K_i, G_i, frac, kind, coef, tol, max_iter, continuation, K_out,
                     det = _TINY
                 # Damping: both moduli positive (at most a tenfold drop per step) and below the
                 # Hashin–Shtrikman upper bounds, between which the self-consistent moduli lie.
-                k_new = min(max(k - (r1 * j22 - r2 * j12) / det, 0.1 * k), K_up)
-                g_new = min(max(g - (j11 * r2 - j21 * r1) / det, 0.1 * g), G_up)
+                k_target = k - (r1 * j22 - r2 * j12) / det
+                g_target = g - (j11 * r2 - j21 * r1) / det
+                k_new = min(max(k_target, 0.1 * k), K_up)
+                g_new = min(max(g_target, 0.1 * g), G_up)
                 if not (np.isfinite(k_new) and np.isfinite(g_new) and np.isfinite(rel)):
                     break
                 step = abs(k_new - k) / k + abs(g_new - g) / g
-                if g_new < 1e-12 * scale:
+                collapse = g_new < 1e-12 * scale
+                # The collapse ahead (see the docstring): both Newton targets a small fraction
+                # of the moduli, a tenth of the previous step's, G far below the phases' moduli.
+                tk = np.inf
+                tg = np.inf
+                if 0.0 < k_target < 0.01 * k and 0.0 < g_target < 0.01 * g:
+                    tk = k_target / k
+                    tg = g_target / g
+                    if (not collapse and tk < _ASYMPTOTIC and tg < _ASYMPTOTIC
+                            and abs(tk - 0.1 * tk_prev) < 0.01 * tk_prev
+                            and abs(tg - 0.1 * tg_prev) < 0.01 * tg_prev
+                            and g_new < _ASYMPTOTIC * scale):
+                        # The steps the iteration would take, each G a tenth of the one before.
+                        ahead = 0
+                        g_next = g_new
+                        while not g_next < 1e-12 * scale:
+                            g_next = 0.1 * g_next
+                            ahead += 1
+                        if it + ahead <= limit:
+                            it += ahead
+                            collapse = True
+                tk_prev = tk
+                tg_prev = tg
+                if collapse:
                     # Shear collapse: the exact limit is G = 0 with K the Reuss average.
                     k = K_reuss
                     g = 0.0

@@ -375,7 +375,10 @@ def self_consistent(K, G, fractions, aspect_ratio=1.0, *, tol=1e-12, max_iter=20
       phases of the point before it and fractions within 0.05 of them starts from the solutions
       at up to three points before it, extrapolated along the fractions, and falls back to the
       bound if that has not converged in 10 iterations or ends in shear collapse. Along an
-      ordered depth profile most points then converge in one iteration.
+      ordered depth profile most points then converge in one iteration. A shear collapse is
+      set once the damped iteration is in its asymptotic regime (each step a tenth), with the
+      steps left counted: the full iteration's result and iteration count
+      (``rockcem._sc_kernels.solve_points``).
 
     The results of the two, and of any order of the points, agree to about ``tol``.
 

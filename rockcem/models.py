@@ -172,8 +172,26 @@ def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     beta, rho, phi, rho_f = broadcast_phases(("solid_fractions", beta), mineral_density=rho,
                                              porosity=phi[..., None],
                                              fluid_density=rho_f[..., None])
+    return _bulk_density(rho, beta, phi[..., 0], rho_f[..., 0])
+
+
+def _check_densities(mineral_density, fluid_density, porosity):
+    """The density checks of :func:`bulk_density` (a few numbers, or one per depth for a
+    fluid), with the same messages, for a model whose fractions and porosity are checked
+    already; returns the mineral densities as an array."""
+    rho = check_range("mineral_density", as_array("mineral_density", mineral_density), 0.0,
+                      MAX_DENSITY, low_open=True)
+    rho_f = check_range("fluid_density", as_array("fluid_density", fluid_density), 0.0,
+                        MAX_DENSITY)
+    broadcast(porosity=porosity, fluid_density=rho_f)
+    return rho
+
+
+def _bulk_density(rho, beta, phi, rho_f):
+    """Eq. 24 of [Carcione2022]_ (:func:`bulk_density`) on checked inputs that broadcast:
+    ``rho`` and ``beta`` with the phases last, ``phi`` and ``rho_f`` without."""
     solid = sum_phases(beta * rho)
-    return (1.0 - phi[..., 0]) * solid + phi[..., 0] * rho_f[..., 0]
+    return (1.0 - phi) * solid + phi * rho_f
 
 
 def _finish(K_dry, G_dry, K_sat, G_sat, density) -> RockProperties:
@@ -262,7 +280,11 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     broadcast(porosity=phi, aspect_ratio=gamma)
     if not tol > 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")
-    frac = np.concatenate([(1.0 - phi)[..., None] * beta, phi[..., None]], axis=-1)
+    rho = _check_densities(rho, fluid.rho, phi)
+    # The phases' volume fractions, solids then pores, written into one array.
+    frac = np.empty(beta.shape[:-1] + (beta.shape[-1] + 1,))
+    np.multiply((1.0 - phi)[..., None], beta, out=frac[..., :-1])
+    frac[..., -1] = phi
     aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
 
     def solve(K_pore, G_pore):
@@ -280,7 +302,7 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
 
     sat = solve(fluid.K, 0.0)
     dry = solve(0.0, 0.0) if np.any(np.asarray(fluid.K) > 0.0) else sat
-    return _finish(dry.K, dry.G, sat.K, sat.G, bulk_density(rho, beta, phi, fluid.rho))
+    return _finish(dry.K, dry.G, sat.K, sat.G, _bulk_density(rho, beta, phi, fluid.rho))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
