@@ -547,17 +547,27 @@ def _unmasked(parts):
             "warnings": parts[0]["warnings"]}
 
 
+#: A number in a validity line: a member's depths, and thresholds that follow its inputs
+#: (Krief's porosity limit is a fraction of the member's depositional porosity).
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
 def _merge_member_warnings(per_member, total):
-    """Each validity rule once, with the number of members it concerns; a member's depth
-    interval differs from another's, so the line shown is that of the first member it
-    concerns, named."""
+    """Each validity rule once, with the number of members it concerns.
+
+    Two members' lines belong to one rule when they name the same models and differ only in
+    the numbers after the " at ": the depth interval, and a threshold that follows the member's inputs (Krief's porosity limit, a
+    fraction of the member's ``sandstone.porosity0``). The line shown is that of the first
+    member the rule concerns, named, with its own depths and values."""
     groups = {}
     for i, lines in enumerate(per_member):
         for line in lines:
-            rule = re.sub(r" at [^:]*:", " at {where}:", line, count=1)
-            groups.setdefault(rule, []).append((i, line))
-    return [f"[{len(hits)} of {total} members; depths of member {hits[0][0]}] {hits[0][1]}"
-            for hits in groups.values()]
+            head, at, tail = line.partition(" at ")  # the head names the model: kept whole
+            where, colon, why = tail.partition(":")  # one depth or an interval
+            key = head + at + colon + _NUMBER.sub("#", why) if colon else line
+            groups.setdefault(key, []).append((i, line))
+    return [f"[{len(hits)} of {total} members; depths and values of member {hits[0][0]}] "
+            f"{hits[0][1]}" for hits in groups.values()]
 
 
 #: Outputs given Sobol' indices with ``sensitivity = true`` (those of the scene's outputs).

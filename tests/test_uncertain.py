@@ -322,7 +322,19 @@ def test_validity_warnings_count_their_members():
         expect += "overfill" in text
     assert 0 < expect < 12
     line = next(w for w in ds.attrs["validity_warnings"].split("\n") if "overfill" in w)
-    assert line.startswith(f"[{expect} of 12 members; depths of member ")
+    assert line.startswith(f"[{expect} of 12 members; depths and values of member ")
+
+
+def test_a_rule_whose_threshold_follows_the_members_is_one_line():
+    """Krief's porosity limit is a fraction of each member's depositional porosity, so the
+    members' lines differ in their numbers; they are one rule, counted over every member, and
+    a different model's rule stays a line of its own."""
+    u = {"samples": 6, "seed": 2,
+         "sandstone.porosity0": {"distribution": "uniform", "lower": 0.36, "upper": 0.42}}
+    ds = quiet_run(scene(u))
+    lines = [w for w in ds.attrs["validity_warnings"].split("\n") if "Krief" in w]
+    assert len(lines) == 1
+    assert lines[0].startswith("[6 of 6 members; depths and values of member 0]")
 
 
 def test_members_beside_a_sweep_are_refused():
