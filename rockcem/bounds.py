@@ -7,6 +7,7 @@ phases on the **last axis**; leading axes broadcast (one row per depth, say). Fr
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -64,6 +65,78 @@ def _by_blocks(fn, K, G, f):
                                        stack_phases(*c[2 * m:])))
 
     return blockwise(kernel, *columns)
+
+
+def _fixed_moduli(K, G):
+    """The phase moduli as ``n`` numbers each where they are the same at every point (an
+    input of shape ``(n,)``, or repeated along the points by broadcasting: stride 0), else
+    ``None``."""
+    if K.size and all(a.ndim <= 1 or not any(a.strides[:-1]) for a in (K, G)):
+        return K.reshape(-1, K.shape[-1])[0], G.reshape(-1, G.shape[-1])[0]
+    return None
+
+
+def _by_fixed_blocks(fn, K, G, f):
+    """``fn(K, G, columns)`` over blocks of points (:func:`rockcem.validation.blockwise`):
+    ``K``, ``G`` the ``n`` numbers of the phases (the same at every point), ``columns`` the
+    ``n`` fractions of a block, one array each (not stacked); ``fn`` returns arrays of the
+    block's shape."""
+    return blockwise(lambda *c: fn(K, G, c), *(f[..., i] for i in range(f.shape[-1])))
+
+
+def _fixed_fast(K, G):
+    """Whether the closed sums of :func:`_hs_fixed` hold for the phase moduli ``K``, ``G``
+    (``n`` numbers): every denominator :math:`M_i + z` of the four bounds exceeds 1e-300 (no
+    zero, no overflow of ``f / (M_i + z)``), i.e. no phase without shear stiffness."""
+    z_lo = np.min(G)
+    return (np.min(K) + 4.0 / 3.0 * z_lo > 1e-300
+            and np.min(G) + float(_zeta(np.min(K), z_lo)) > 1e-300)
+
+
+def _harmonic_fixed(values, columns, shift):
+    r""":math:`[\sum_i f_i / (v_i + s)]^{-1} - s`, clipped at 0 (:func:`_harmonic`) for ``n``
+    numbers :math:`v_i` and one number :math:`s` (every :math:`v_i + s > 10^{-300}`), the
+    fractions :math:`f_i` one array each: each reciprocal :math:`1/(v_i + s)` once, a product
+    per point instead of a division (each term within two ulps of :func:`_harmonic`'s)."""
+    total = columns[0] * (1.0 / (values[0] + shift))
+    for v, c in zip(values[1:], columns[1:]):
+        total += c * (1.0 / (v + shift))
+    total = np.divide(1.0, total, out=total) if total.ndim else 1.0 / total
+    total -= shift
+    # Clip the cancellation in inv - shift (as _harmonic); rarely anything to clip.
+    return np.maximum(total, 0.0) if total.min() < 0.0 else total
+
+
+def _hs_fixed(K, G, columns, *, lower=True, upper=True):
+    r"""Hashin–Shtrikman bounds (:func:`hashin_shtrikman`, the same equations) of phases whose
+    moduli ``K``, ``G`` are ``n`` numbers, the same at every point, for which
+    :func:`_fixed_fast` holds; ``columns``: the ``n`` checked fractions, one array each.
+
+    Where every phase is present the extreme moduli are numbers, the shifts :math:`\tfrac43
+    G_{\max/\min}` and :math:`\zeta` too, and each harmonic sum is a sum of products
+    (:func:`_harmonic_fixed`). Points where a phase is absent (a zero fraction: the extremes
+    are over the phases present) are computed again by the general code
+    (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
+    neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order."""
+    out = []
+    for want, ext in ((lower, np.min), (upper, np.max)):
+        if want:
+            K_e, G_e = ext(K), ext(G)
+            out += [_harmonic_fixed(K, columns, 4.0 / 3.0 * G_e),
+                    _harmonic_fixed(G, columns, _zeta(K_e, G_e))]
+    if all(c.min() > 0.0 for c in columns):
+        return tuple(out)
+    shape = np.broadcast_shapes(*(np.shape(c) for c in columns))
+    flat = [np.broadcast_to(c, shape).reshape(-1) for c in columns]
+    idx = np.flatnonzero(np.logical_or.reduce([c <= 0.0 for c in flat]))
+    f = np.stack([c[idx] for c in flat], -1)
+    Kp, Gp = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
+    parts = ((*_hs_lower(Kp, Gp, f),) if lower else ()) + ((*_hs_upper(Kp, Gp, f),) if upper
+                                                           else ())
+    out = [np.array(np.broadcast_to(o, shape)) for o in out]
+    for o, p in zip(out, parts):
+        o.reshape(-1)[idx] = p
+    return tuple(out)
 
 
 def _harmonic(values, f, shift=0.0):
@@ -204,7 +277,11 @@ def hashin_shtrikman(K, G, fractions) -> Bounds:
     >>> round(float(b.K_lower), 4), round(float(b.K_upper), 4)
     (38.4314, 38.4407)
     """
-    return Bounds(*_by_blocks(_hs_both, *_phases(K, G, fractions)))
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Bounds(*_by_fixed_blocks(_hs_fixed, *fixed, f))
+    return Bounds(*_by_blocks(_hs_both, K, G, f))
 
 
 def _hs_both(K, G, f):
@@ -237,7 +314,11 @@ def _hs_lower(K, G, f):
 @labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
     """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
-    return Moduli(*_by_blocks(_hs_upper, *_phases(K, G, fractions)))
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Moduli(*_by_fixed_blocks(functools.partial(_hs_fixed, lower=False), *fixed, f))
+    return Moduli(*_by_blocks(_hs_upper, K, G, f))
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))
@@ -250,4 +331,27 @@ def hashin_shtrikman_average(K, G, fractions) -> Moduli:
 
     Same parameters as :func:`hashin_shtrikman`; returns ``Moduli`` of shape ``(...)``.
     """
-    return hashin_shtrikman(K, G, fractions).average
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Moduli(*_by_fixed_blocks(_hs_average_fixed, *fixed, f))
+    return Bounds(*_by_blocks(_hs_both, K, G, f)).average
+
+
+def _hs_average(K, G, f):
+    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) of checked fractions ``f``
+    (phases last) and phase moduli ``K``, ``G`` that are ``n`` checked numbers each, the same
+    at every point; no blocks (for a caller that works in blocks)."""
+    if _fixed_fast(K, G):
+        return _hs_average_fixed(K, G, [f[..., i] for i in range(f.shape[-1])])
+    K, G = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
+    return tuple(Bounds(*_hs_both(K, G, f)).average)
+
+
+def _hs_average_fixed(K, G, columns):
+    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) by :func:`_hs_fixed`:
+    ``(K, G)``, each the mean of its two bounds."""
+    K_lo, G_lo, K_hi, G_hi = _hs_fixed(K, G, columns)
+    K_lo += K_hi
+    G_lo += G_hi
+    return K_lo * 0.5, G_lo * 0.5

@@ -63,12 +63,21 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     if np.any(K_dry > K_min * (1.0 + 1e-12)):
         raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its "
                          "mineral)")
+    return _gassmann(K_dry, K_min, K_fluid, phi)
+
+
+def _gassmann(K_dry, K_min, K_fluid, phi):
+    """Eqs. 4–6 of [Carcione2022]_ (:func:`gassmann`, the same arithmetic) of checked inputs
+    that broadcast, ``K_dry <= K_min``."""
     alpha = 1.0 - K_dry / K_min
     denom = (alpha - phi) * K_fluid + phi * K_min
-    ok = denom > 0.0
     # alpha^2 M as alpha (alpha M): where alpha and phi are both tiny, M alone overflows while
     # alpha M stays below K_min K_fluid / ((alpha - phi) K_fluid + phi K_min) * alpha, finite.
-    alpha_M = np.where(ok, alpha * K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
+    if np.size(denom) == 0 or np.min(denom) > 0.0:     # the common case: no guard needed
+        alpha_M = alpha * K_min * K_fluid / denom
+    else:
+        ok = denom > 0.0
+        alpha_M = np.where(ok, alpha * K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
     # Where denom = 0 (K_f = 0 and phi = 0, or phi = 0 and K_dry = K_min) there is nothing to add.
     return K_dry + alpha * alpha_M
 

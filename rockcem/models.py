@@ -25,11 +25,11 @@ from typing import NamedTuple
 import numpy as np
 
 from .validation import (BLOCK, MAX_DENSITY, as_array, broadcast, broadcast_phases,
-                          check_fractions, check_range, stack_phases, sum_phases)
-from .bounds import hashin_shtrikman_average
+                          check_fractions, check_modulus, check_range, stack_phases, sum_phases)
+from .bounds import _hs_average, hashin_shtrikman_average
 from .elastic import velocities
-from .fluids import gassmann, generalized_gassmann
-from .frames import krief, krief_multimineral
+from .fluids import _gassmann, gassmann, generalized_gassmann
+from .frames import MAX_KRIEF_EXPONENT, krief, krief_multimineral
 from .granular import _cement_radius, _patchy_cement, _shapes
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
@@ -190,7 +190,9 @@ def _check_densities(mineral_density, fluid_density, porosity):
 def _bulk_density(rho, beta, phi, rho_f):
     """Eq. 24 of [Carcione2022]_ (:func:`bulk_density`) on checked inputs that broadcast:
     ``rho`` and ``beta`` with the phases last, ``phi`` and ``rho_f`` without."""
-    solid = sum_phases(beta * rho)
+    solid = beta[..., 0] * rho[..., 0]          # sum_phases(beta * rho), column by column
+    for i in range(1, beta.shape[-1]):
+        solid += beta[..., i] * rho[..., i]
     return (1.0 - phi) * solid + phi * rho_f
 
 
@@ -231,17 +233,32 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
-    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (fluid.K, 0),
+    K_f, rho = _checked_once(K, G, A, fluid, phi, rho)
+    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (K_f, 0),
                                      "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
 
 
+def _checked_once(K, G, A, fluid, phi, rho):
+    """The checks of the public steps of Models 1 and 3 that their blocks skip, once, with
+    those steps' messages and in their order: the minerals' moduli (the HS average's ``K``,
+    ``G``), Krief's exponent ``A``, the fluid's modulus (Gassmann's ``K_fluid``) and the
+    densities (:func:`bulk_density`'s). Returns the fluid's modulus and the minerals' densities
+    as arrays."""
+    check_modulus("K", K, allow_zero=True)
+    check_modulus("G", G, allow_zero=True)
+    check_range("A", as_array("A", A), 0.0, MAX_KRIEF_EXPONENT, low_open=True)
+    K_f = check_modulus("K_fluid", as_array("K_fluid", fluid.K), allow_zero=True)
+    return K_f, _check_densities(rho, fluid.rho, phi)
+
+
 def _hs_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
-    """Model 1 on a block of points (:func:`hs_gassmann`)."""
-    mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
-                                       np.broadcast_to(G, beta.shape), beta)
-    dry = krief(mineral.K, mineral.G, phi, A)
-    K_sat = gassmann(dry.K, mineral.K, K_f, phi)
-    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, rho_f))
+    """Model 1 on a block of points (:func:`hs_gassmann`); its inputs checked by it (the
+    mineral's moduli by :func:`rockcem.frames.krief`; Krief's frame is never stiffer than its
+    mineral, as Gassmann's equation requires)."""
+    K_s, G_s = _hs_average(K, G, beta)
+    dry = krief(K_s, G_s, phi, A)
+    K_sat = _gassmann(dry.K, K_s, K_f, phi)
+    return _finish(dry.K, dry.G, K_sat, dry.G, _bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
