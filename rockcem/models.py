@@ -28,7 +28,7 @@ from .validation import (BLOCK, MAX_DENSITY, as_array, broadcast, broadcast_phas
                           check_fractions, check_modulus, check_range, stack_phases, sum_phases)
 from .bounds import _hs_average, hashin_shtrikman_average
 from .elastic import velocities
-from .fluids import _gassmann, gassmann, generalized_gassmann
+from .fluids import _gassmann, _generalized_gassmann, gassmann
 from .frames import MAX_KRIEF_EXPONENT, krief, krief_multimineral
 from .granular import _cement_radius, _patchy_cement, _shapes
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
@@ -233,19 +233,20 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
-    K_f, rho = _checked_once(K, G, A, fluid, phi, rho)
+    K_f, rho = _checked_once(("K", K, True), ("G", G, True), A, fluid, phi, rho)
     return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (K_f, 0),
                                      "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
 
 
 def _checked_once(K, G, A, fluid, phi, rho):
     """The checks of the public steps of Models 1 and 3 that their blocks skip, once, with
-    those steps' messages and in their order: the minerals' moduli (the HS average's ``K``,
-    ``G``), Krief's exponent ``A``, the fluid's modulus (Gassmann's ``K_fluid``) and the
-    densities (:func:`bulk_density`'s). Returns the fluid's modulus and the minerals' densities
-    as arrays."""
-    check_modulus("K", K, allow_zero=True)
-    check_modulus("G", G, allow_zero=True)
+    those steps' messages and in their order: the minerals' moduli ``K``, ``G`` (each a name,
+    the moduli and whether 0 is allowed: as the first step that checks them), Krief's exponent
+    ``A``, the fluid's modulus (Gassmann's ``K_fluid``) and the densities
+    (:func:`bulk_density`'s). Returns the fluid's modulus and the minerals' densities as
+    arrays."""
+    for name, value, allow_zero in (K, G):
+        check_modulus(name, value, allow_zero=allow_zero)
     check_range("A", as_array("A", A), 0.0, MAX_KRIEF_EXPONENT, low_open=True)
     K_f = check_modulus("K_fluid", as_array("K_fluid", fluid.K), allow_zero=True)
     return K_f, _check_densities(rho, fluid.rho, phi)
@@ -336,19 +337,26 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
-    return _by_points(_generalized_gassmann, {"beta": (beta, 1), "phi": (phi, 0),
-                                              "K_f": (fluid.K, 0), "rho_f": (fluid.rho, 0),
-                                              "A": (A, 0)}, K=K, G=G, rho=rho)
+    K_f, rho = _checked_once(("K_solid", K, False), ("G_solid", G, True), A, fluid, phi, rho)
+    return _by_points(_model3, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (K_f, 0),
+                                "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
 
 
-def _generalized_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
-    """Model 3 on a block of points (:func:`generalized_gassmann_model`)."""
+def _model3(beta, phi, K_f, rho_f, A, K, G, rho):
+    r"""Model 3 on a block of points (:func:`generalized_gassmann_model`); its inputs checked
+    by it (each solid's Biot coefficient is :math:`\beta_i (1 - K_s F / V_K) \ge 0`, with
+    the HS average :math:`K_s` at most the Voigt average :math:`V_K` and Krief's factor
+    :math:`F \le 1`, as the generalized Gassmann equation requires).
+
+    The solid fractions go to Krief's frame in column order (Fortran): its arithmetic with a
+    short last axis then runs along the points, not row by row (the same values)."""
+    beta = np.asfortranarray(beta)
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
-    K_sat = generalized_gassmann(frames.K, K_i, beta, K_f, phi)
+    K_sat = _generalized_gassmann(frames.K, K, beta, K_f, phi)
     G_dry = sum_phases(frames.G)
     return _finish(sum_phases(frames.K), G_dry, K_sat, G_dry,
-                   bulk_density(rho, beta, phi, rho_f))
+                   _bulk_density(rho, beta, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS)
