@@ -107,7 +107,7 @@ def _harmonic_fixed(values, columns, shift):
     return np.maximum(total, 0.0) if total.min() < 0.0 else total
 
 
-def _hs_fixed(K, G, columns, *, lower=True, upper=True):
+def _hs_fixed(K, G, columns, *, lower=True, upper=True, shear=True):
     r"""Hashin–Shtrikman bounds (:func:`hashin_shtrikman`, the same equations) of phases whose
     moduli ``K``, ``G`` are ``n`` numbers, the same at every point, for which
     :func:`_fixed_fast` holds; ``columns``: the ``n`` checked fractions, one array each.
@@ -117,13 +117,15 @@ def _hs_fixed(K, G, columns, *, lower=True, upper=True):
     (:func:`_harmonic_fixed`). Points where a phase is absent (a zero fraction: the extremes
     are over the phases present) are computed again by the general code
     (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
-    neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order."""
+    neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order; without ``shear``
+    the bulk moduli alone (``K-``, ``K+``)."""
     out = []
     for want, ext in ((lower, np.min), (upper, np.max)):
         if want:
             K_e, G_e = ext(K), ext(G)
-            out += [_harmonic_fixed(K, columns, 4.0 / 3.0 * G_e),
-                    _harmonic_fixed(G, columns, _zeta(K_e, G_e))]
+            out.append(_harmonic_fixed(K, columns, 4.0 / 3.0 * G_e))
+            if shear:
+                out.append(_harmonic_fixed(G, columns, _zeta(K_e, G_e)))
     if all(c.min() > 0.0 for c in columns):
         return tuple(out)
     shape = np.broadcast_shapes(*(np.shape(c) for c in columns))
@@ -131,8 +133,8 @@ def _hs_fixed(K, G, columns, *, lower=True, upper=True):
     idx = np.flatnonzero(np.logical_or.reduce([c <= 0.0 for c in flat]))
     f = np.stack([c[idx] for c in flat], -1)
     Kp, Gp = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
-    parts = ((*_hs_lower(Kp, Gp, f),) if lower else ()) + ((*_hs_upper(Kp, Gp, f),) if upper
-                                                           else ())
+    parts = [bound for want, general in ((lower, _hs_lower), (upper, _hs_upper)) if want
+             for bound in general(Kp, Gp, f)[:2 if shear else 1]]
     out = [np.array(np.broadcast_to(o, shape)) for o in out]
     for o, p in zip(out, parts):
         o.reshape(-1)[idx] = p
@@ -170,6 +172,61 @@ def _harmonic(values, f, shift=0.0):
                        1.0 / np.where(np.isfinite(total) & (total > 0.0), total, 1.0))
     # Clip the cancellation in inv - shift (a bound that is exactly 0 may round to -1e-15).
     return np.maximum(inv - shift, 0.0)
+
+
+def _harmonic2(a, b, x, shift, x1=None):
+    r""":math:`[x/(a+s) + x_1/(b+s)]^{-1} - s`, clipped at 0: :func:`_harmonic` of two phases
+    with fractions ``x`` and :math:`x_1` (``x1``, or ``1 - x`` if not given), without stacking
+    them. Where every denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a
+    denominator that is one number is inverted once (a product per point instead of a division,
+    within an ulp); other inputs go to that function."""
+    da = a + shift
+    db = b + shift
+    if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
+        total = x * (1.0 / da) if np.ndim(da) == 0 else x / da
+        rest = 1.0 - x if x1 is None else x1
+        rest = rest * (1.0 / db) if np.ndim(db) == 0 else rest / db
+        total = _inplace(np.add, total, rest)
+        total = _inplace(np.divide, 1.0, total, out_arg=1)
+        total = _inplace(np.subtract, total, shift)
+        # Clip the cancellation in inv - shift (as that function); rarely anything to clip.
+        return np.maximum(total, 0.0) if _lowest(total) < 0.0 else total
+    a, b, x, x1, shift = np.broadcast_arrays(a, b, x, 1.0 - x if x1 is None else x1, shift)
+    return _harmonic(np.stack([a, b], axis=-1), np.stack([x, x1], axis=-1), shift)
+
+
+def _hs_upper2(K1, G1, K2, G2, f1, f2):
+    """Upper HS bound ``(K, G)`` of two phases (:func:`_hs_upper`, the same arithmetic),
+    each modulus and fraction an array or a number (checked, broadcasting), not stacked: the
+    extremes over the phases present, then :func:`_harmonic2`."""
+    K_max, G_max = np.maximum(K1, K2), np.maximum(G1, G2)
+    if not (_lowest(f1) > 0.0 and _lowest(f2) > 0.0):      # a phase absent somewhere
+        K_max = np.where(f1 > 0.0, np.where(f2 > 0.0, K_max, K1), K2)
+        G_max = np.where(f1 > 0.0, np.where(f2 > 0.0, G_max, G1), G2)
+    return (_harmonic2(K1, K2, f1, 4.0 / 3.0 * G_max, f2),
+            _harmonic2(G1, G2, f1, _zeta(K_max, G_max), f2))
+
+
+def _hill2(K1, G1, K2, G2, f1, f2):
+    """Hill average ``(K, G)`` of two phases (:func:`_hill`, eq. 19 of [Carcione2022]_), each
+    modulus and fraction an array or a number (checked, broadcasting), not stacked."""
+    return (0.5 * (f1 * K1 + f2 * K2 + _harmonic2(K1, K2, f1, 0.0, f2)),
+            0.5 * (f1 * G1 + f2 * G2 + _harmonic2(G1, G2, f1, 0.0, f2)))
+
+
+def _inplace(ufunc, a, b, out_arg=0):
+    """``ufunc(a, b)``, written over the temporary ``(a, b)[out_arg]`` where it has the result's
+    shape (a temporary of the caller, never an input)."""
+    tmp, other = (a, b) if out_arg == 0 else (b, a)
+    if isinstance(tmp, np.ndarray) and tmp.ndim and (np.ndim(other) == 0
+                                                     or np.shape(other) == tmp.shape):
+        return ufunc(a, b, out=tmp)
+    return ufunc(a, b)
+
+
+def _lowest(a):
+    """The least element of a checked array or number (``min`` without numpy's dispatch)."""
+    return a.min() if isinstance(a, np.ndarray) else a
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))
@@ -338,20 +395,25 @@ def hashin_shtrikman_average(K, G, fractions) -> Moduli:
     return Bounds(*_by_blocks(_hs_both, K, G, f)).average
 
 
-def _hs_average(K, G, f):
-    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) of checked fractions ``f``
-    (phases last) and phase moduli ``K``, ``G`` that are ``n`` checked numbers each, the same
-    at every point; no blocks (for a caller that works in blocks)."""
+def _hs_average(K, G, columns, *, shear=True):
+    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) of checked fractions, one
+    array per phase (``columns``), and phase moduli ``K``, ``G`` that are ``n`` checked
+    numbers each, the same at every point; no blocks (for a caller that works in blocks).
+    Returns ``(K, G)``, or ``(K,)`` without ``shear``."""
     if _fixed_fast(K, G):
-        return _hs_average_fixed(K, G, [f[..., i] for i in range(f.shape[-1])])
+        return _hs_average_fixed(K, G, columns, shear=shear)
+    f = np.stack(np.broadcast_arrays(*columns), axis=-1)
     K, G = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
-    return tuple(Bounds(*_hs_both(K, G, f)).average)
+    return tuple(Bounds(*_hs_both(K, G, f)).average)[:2 if shear else 1]
 
 
-def _hs_average_fixed(K, G, columns):
+def _hs_average_fixed(K, G, columns, *, shear=True):
     """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) by :func:`_hs_fixed`:
-    ``(K, G)``, each the mean of its two bounds."""
-    K_lo, G_lo, K_hi, G_hi = _hs_fixed(K, G, columns)
-    K_lo += K_hi
-    G_lo += G_hi
-    return K_lo * 0.5, G_lo * 0.5
+    ``(K, G)`` (``(K,)`` without ``shear``), each the mean of its two bounds."""
+    bounds = _hs_fixed(K, G, columns, shear=shear)
+    m = len(bounds) // 2
+    out = []
+    for lo, hi in zip(bounds[:m], bounds[m:]):
+        lo += hi
+        out.append(lo * 0.5)
+    return tuple(out)
