@@ -303,9 +303,12 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     if not tol > 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")
     rho = _check_densities(rho, fluid.rho, phi)
-    # The phases' volume fractions, solids then pores, written into one array.
+    # The phases' volume fractions, solids then pores, written into one array, column by
+    # column (a product with a short last axis runs row by row in numpy, twice as slow).
     frac = np.empty(beta.shape[:-1] + (beta.shape[-1] + 1,))
-    np.multiply((1.0 - phi)[..., None], beta, out=frac[..., :-1])
+    solid = 1.0 - phi
+    for i in range(beta.shape[-1]):
+        np.multiply(solid, beta[..., i], out=frac[..., i])
     frac[..., -1] = phi
     aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
 
