@@ -94,13 +94,13 @@ def _fixed_fast(K, G):
 
 
 def _harmonic_fixed(values, columns, shift):
-    r""":math:`[\sum_i f_i / (v_i + s)]^{-1} - s`, clipped at 0 (:func:`_harmonic`) for ``n``
-    numbers :math:`v_i` and one number :math:`s` (every :math:`v_i + s > 10^{-300}`), the
-    fractions :math:`f_i` one array each: each reciprocal :math:`1/(v_i + s)` once, a product
-    per point instead of a division (each term within two ulps of :func:`_harmonic`'s)."""
-    total = columns[0] * (1.0 / (values[0] + shift))
+    r""":math:`[\sum_i f_i / (v_i + s)]^{-1} - s`, clipped at 0 (:func:`_harmonic`, the same
+    operations in the same order, so the same values) for ``n`` numbers :math:`v_i` and one
+    number :math:`s` (every :math:`v_i + s > 10^{-300}`), the fractions :math:`f_i` one array
+    each: the denominators are numbers, and no mask is needed."""
+    total = columns[0] / (values[0] + shift)
     for v, c in zip(values[1:], columns[1:]):
-        total += c * (1.0 / (v + shift))
+        total += c / (v + shift)
     total = np.divide(1.0, total, out=total) if total.ndim else 1.0 / total
     total -= shift
     # Clip the cancellation in inv - shift (as _harmonic); rarely anything to clip.
@@ -108,13 +108,13 @@ def _harmonic_fixed(values, columns, shift):
 
 
 def _hs_fixed(K, G, columns, *, lower=True, upper=True, shear=True):
-    r"""Hashin–Shtrikman bounds (:func:`hashin_shtrikman`, the same equations) of phases whose
-    moduli ``K``, ``G`` are ``n`` numbers, the same at every point, for which
+    r"""Hashin–Shtrikman bounds (:func:`hashin_shtrikman`, the same arithmetic and values) of
+    phases whose moduli ``K``, ``G`` are ``n`` numbers, the same at every point, for which
     :func:`_fixed_fast` holds; ``columns``: the ``n`` checked fractions, one array each.
 
     Where every phase is present the extreme moduli are numbers, the shifts :math:`\tfrac43
-    G_{\max/\min}` and :math:`\zeta` too, and each harmonic sum is a sum of products
-    (:func:`_harmonic_fixed`). Points where a phase is absent (a zero fraction: the extremes
+    G_{\max/\min}` and :math:`\zeta` and the denominators :math:`M_i + z` too, and each
+    harmonic sum needs no mask (:func:`_harmonic_fixed`). Points where a phase is absent (a zero fraction: the extremes
     are over the phases present) are computed again by the general code
     (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
     neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order; without ``shear``
@@ -174,18 +174,19 @@ def _harmonic(values, f, shift=0.0):
     return np.maximum(inv - shift, 0.0)
 
 
-def _harmonic2(a, b, x, shift, x1=None):
+def _harmonic2(a, b, x, shift, x1=None, *, divide=False):
     r""":math:`[x/(a+s) + x_1/(b+s)]^{-1} - s`, clipped at 0: :func:`_harmonic` of two phases
     with fractions ``x`` and :math:`x_1` (``x1``, or ``1 - x`` if not given), without stacking
     them. Where every denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a
     denominator that is one number is inverted once (a product per point instead of a division,
-    within an ulp); other inputs go to that function."""
+    within an ulp; with ``divide`` a division, the values of that function); other inputs go
+    to that function."""
     da = a + shift
     db = b + shift
     if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
-        total = x * (1.0 / da) if np.ndim(da) == 0 else x / da
+        total = x * (1.0 / da) if np.ndim(da) == 0 and not divide else x / da
         rest = 1.0 - x if x1 is None else x1
-        rest = rest * (1.0 / db) if np.ndim(db) == 0 else rest / db
+        rest = rest * (1.0 / db) if np.ndim(db) == 0 and not divide else rest / db
         total = _inplace(np.add, total, rest)
         total = _inplace(np.divide, 1.0, total, out_arg=1)
         total = _inplace(np.subtract, total, shift)
@@ -196,22 +197,23 @@ def _harmonic2(a, b, x, shift, x1=None):
 
 
 def _hs_upper2(K1, G1, K2, G2, f1, f2):
-    """Upper HS bound ``(K, G)`` of two phases (:func:`_hs_upper`, the same arithmetic),
-    each modulus and fraction an array or a number (checked, broadcasting), not stacked: the
-    extremes over the phases present, then :func:`_harmonic2`."""
+    """Upper HS bound ``(K, G)`` of two phases (:func:`_hs_upper`, the same arithmetic and
+    values), each modulus and fraction an array or a number (checked, broadcasting), not
+    stacked: the extremes over the phases present, then :func:`_harmonic2`."""
     K_max, G_max = np.maximum(K1, K2), np.maximum(G1, G2)
     if not (_lowest(f1) > 0.0 and _lowest(f2) > 0.0):      # a phase absent somewhere
         K_max = np.where(f1 > 0.0, np.where(f2 > 0.0, K_max, K1), K2)
         G_max = np.where(f1 > 0.0, np.where(f2 > 0.0, G_max, G1), G2)
-    return (_harmonic2(K1, K2, f1, 4.0 / 3.0 * G_max, f2),
-            _harmonic2(G1, G2, f1, _zeta(K_max, G_max), f2))
+    return (_harmonic2(K1, K2, f1, 4.0 / 3.0 * G_max, f2, divide=True),
+            _harmonic2(G1, G2, f1, _zeta(K_max, G_max), f2, divide=True))
 
 
 def _hill2(K1, G1, K2, G2, f1, f2):
-    """Hill average ``(K, G)`` of two phases (:func:`_hill`, eq. 19 of [Carcione2022]_), each
-    modulus and fraction an array or a number (checked, broadcasting), not stacked."""
-    return (0.5 * (f1 * K1 + f2 * K2 + _harmonic2(K1, K2, f1, 0.0, f2)),
-            0.5 * (f1 * G1 + f2 * G2 + _harmonic2(G1, G2, f1, 0.0, f2)))
+    """Hill average ``(K, G)`` of two phases (:func:`_hill`, eq. 19 of [Carcione2022]_, the same
+    arithmetic and values), each modulus and fraction an array or a number (checked,
+    broadcasting), not stacked."""
+    return (0.5 * (f1 * K1 + f2 * K2 + _harmonic2(K1, K2, f1, 0.0, f2, divide=True)),
+            0.5 * (f1 * G1 + f2 * G2 + _harmonic2(G1, G2, f1, 0.0, f2, divide=True)))
 
 
 def _inplace(ufunc, a, b, out_arg=0):

@@ -2,9 +2,9 @@
 the values of the equations.
 
 What changed: the Hashin-Shtrikman bounds of phases whose moduli are the same at every point
-(the minerals of Models 1, 3 and 4) as sums of products (each reciprocal 1/(M_i + z) once, the
-extremes and shifts as numbers; points with an absent phase by the general code); the two-phase
-HS upper bound and Hill average of the patchy-cement frame without stacking; Gassmann's and the
+(the minerals of Models 1, 3 and 4) with the extremes, shifts and denominators M_i + z as numbers
+(points with an absent phase by the general code); the two-phase HS upper bound and Hill
+average of the patchy-cement frame without stacking; Gassmann's and the
 generalized Gassmann equations, the bulk density and the minerals' HS average inside the
 models' blocks without the public checks (checked once per call instead); Model 4's mineral,
 cap, Gassmann and density in blocks of points, its cement radius computed once.
@@ -12,15 +12,17 @@ cap, Gassmann and density in blocks of points, its cement radius computed once.
 Every reference below is written out here from the published equations with plain numpy
 (nothing of rockcem but the materials and, for Model 4, the public dry frame), on inputs larger
 than two blocks (rockcem.validation.BLOCK) with absent phases scattered over several blocks;
-values agree to 1e-14 relative (the rearranged arithmetic moves the last bits only).
+values agree to 1e-14 relative (the references round differently). The new paths of the bounds
+do the operations of the general code: those are compared with it to the last bit.
 """
 
 import numpy as np
 import pytest
 from scipy.optimize import root
 
-from rockcem import granular
-from rockcem.bounds import hashin_shtrikman, hashin_shtrikman_average, hashin_shtrikman_upper
+from rockcem import granular, inclusions
+from rockcem.bounds import (hashin_shtrikman, hashin_shtrikman_average, hashin_shtrikman_upper,
+                            hill)
 from rockcem.materials import Fluid, fluid, mineral
 from rockcem.models import generalized_gassmann_model, hs_gassmann, patchy_cement_model
 from rockcem.validation import BLOCK, check_fractions
@@ -224,19 +226,25 @@ def test_model4_refusal_names_the_largest_excess_over_all_blocks():
                             contact_cement_limit=0.36)
 
 
-@pytest.mark.parametrize("fn, picks", [(hashin_shtrikman, (0, 1, 2, 3)),
-                                       (hashin_shtrikman_upper, (2, 3)),
-                                       (hashin_shtrikman_average, "mean")])
-def test_hs_of_fixed_moduli_equals_the_equations_and_each_point_its_own(fn, picks):
-    """Three solids, the same at every point (the sums of products), absent phases at points
-    in every block (the general code there): the equations to 1e-14, and each point's value
-    the same whether computed with its neighbours or alone."""
-    rng = np.random.default_rng(5)
+def three_solids(seed):
+    """Quartz, smectite and illite (Carcione et al. 2022, Table 1) and random fractions, the
+    quartz absent at every 773rd point and only it present at every 1231st."""
+    rng = np.random.default_rng(seed)
     K, G = np.array([40.0, 9.0, 33.0]), np.array([39.0, 6.0, 28.0])
     f = rng.uniform(0.0, 1.0, (N, 3))
     f[1::773, 0] = 0.0
     f[2::1231, 1:] = 0.0
-    f /= f.sum(-1, keepdims=True)
+    return K, G, f / f.sum(-1, keepdims=True)
+
+
+@pytest.mark.parametrize("fn, picks", [(hashin_shtrikman, (0, 1, 2, 3)),
+                                       (hashin_shtrikman_upper, (2, 3)),
+                                       (hashin_shtrikman_average, "mean")])
+def test_hs_of_fixed_moduli_equals_the_equations_and_each_point_its_own(fn, picks):
+    """Three solids, the same at every point (denominators as numbers), absent phases at points
+    in every block (the general code there): the equations to 1e-14, and each point's value
+    the same whether computed with its neighbours or alone."""
+    K, G, f = three_solids(5)
     got = fn(K, G, f)
     eq = hs_eq(K, G, f)
     want = [(eq[0] + eq[2]) / 2, (eq[1] + eq[3]) / 2] if picks == "mean" else \
@@ -246,6 +254,42 @@ def test_hs_of_fixed_moduli_equals_the_equations_and_each_point_its_own(fn, pick
     for i in (0, 1, 2, 1 + 773 * 90, 2 + 1231 * 55, 2 * BLOCK + 5):
         for a, b in zip(got, fn(K, G, f[i])):
             assert a[i] == b
+
+
+def test_hs_of_fixed_moduli_bit_identical_to_the_general_path():
+    """The path for moduli the same at every point does the general path's operations: the
+    same values to the last bit as the same moduli given one row per point (a copy, not a
+    broadcast view: the general path), absent phases included."""
+    K, G, f = three_solids(6)
+    rows = np.ascontiguousarray(np.broadcast_to(K, f.shape)), \
+        np.ascontiguousarray(np.broadcast_to(G, f.shape))
+    for fn in (hashin_shtrikman, hashin_shtrikman_upper, hashin_shtrikman_average):
+        for a, b in zip(fn(K, G, f), fn(*rows, f)):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_patchy_frame_bit_identical_to_its_public_building_blocks():
+    """The two-phase HS upper mix and Hill average without stacking do the operations of the
+    n-phase code: granular.patchy_cement equals its steps through the public functions (the
+    general path of hashin_shtrikman and hill, moduli one per point) to the last bit."""
+    rng = np.random.default_rng(8)
+    K0, G0, Kc, Gc, phic, n = QUARTZ.K, QUARTZ.G, CEMENT.K, CEMENT.G, 0.36, 9.0
+    phip = rng.uniform(0.0, 0.05, N)
+    phip[::4] = 0.0
+    phi = rng.uniform(0.0, phic, N)
+    p = rng.uniform(0.0, 60.0, N)
+    m = granular.patchy_cement(K0, G0, Kc, Gc, phi, phic, n, p, phip, 0.05, 1, 0.0, 1.0, 10.0)
+    hm = granular.hertz_mindlin(K0, G0, phic, n, p, 1.0, 10.0)
+    cct = granular.contact_cement(K0, G0, Kc, Gc, phic - np.minimum(phip, 0.05), phic, n)
+    end = inclusions.self_consistent([K0, Kc], [G0, Gc], [1 - phic, phic])
+    frac = np.clip(phip / phic, 0.0, 1.0)
+    b = hashin_shtrikman_upper(np.stack([cct.K, hm.K], -1), np.stack([cct.G, hm.G], -1),
+                               np.stack([frac, 1.0 - frac], -1))
+    x = phi / phic
+    h = hill(np.stack(np.broadcast_arrays(end.K, b.K), -1),
+             np.stack(np.broadcast_arrays(end.G, b.G), -1), np.stack([1.0 - x, x], -1))
+    np.testing.assert_array_equal(m.K, h.K)
+    np.testing.assert_array_equal(m.G, h.G)
 
 
 def test_fractions_checked_by_their_distance_from_one():
