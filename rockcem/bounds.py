@@ -85,9 +85,9 @@ def _by_fixed_blocks(fn, K, G, f):
 
 
 def _fixed_fast(K, G):
-    """Whether the closed sums of :func:`_hs_fixed` hold for the phase moduli ``K``, ``G``
-    (``n`` numbers): every denominator :math:`M_i + z` of the four bounds exceeds 1e-300 (no
-    zero, no overflow of ``f / (M_i + z)``), i.e. no phase without shear stiffness."""
+    """Whether :func:`_hs_fixed` applies to the phase moduli ``K``, ``G`` (``n`` numbers):
+    every denominator :math:`M_i + z` of the four bounds exceeds 1e-300 (no zero, no overflow
+    of ``f / (M_i + z)``), i.e. no phase without shear stiffness."""
     z_lo = np.min(G)
     return (np.min(K) + 4.0 / 3.0 * z_lo > 1e-300
             and np.min(G) + float(_zeta(np.min(K), z_lo)) > 1e-300)
@@ -114,9 +114,9 @@ def _hs_fixed(K, G, columns, *, lower=True, upper=True, shear=True):
 
     Where every phase is present the extreme moduli are numbers, the shifts :math:`\tfrac43
     G_{\max/\min}` and :math:`\zeta` and the denominators :math:`M_i + z` too, and each
-    harmonic sum needs no mask (:func:`_harmonic_fixed`). Points where a phase is absent (a zero fraction: the extremes
-    are over the phases present) are computed again by the general code
-    (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
+    harmonic sum needs no mask (:func:`_harmonic_fixed`). Points where a phase is absent (a
+    zero fraction: the extremes are over the phases present) are computed again by the general
+    code (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
     neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order; without ``shear``
     the bulk moduli alone (``K-``, ``K+``)."""
     out = []
