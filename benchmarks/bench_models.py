@@ -22,8 +22,14 @@ interleaved with this checkout's run by run (order swapped every run, best of ``
 each), checks that both give the same values, and reports the speed ratio: the comparison for
 a machine whose load changes (issue 32).
 
-Run: ``python benchmarks/bench_models.py [--n N] [--repeat K] [--baseline-n M] [--baseline PATH]``.
-Output: ``benchmarks/results/bench_models.{csv,nc,png}``.
+Both parts end with a summary line: the four models' best times per 10^6 points and their sum
+(target of issue 32: < 1 s together), and with ``--baseline`` the same for the interleaved runs
+of both copies and the ratio of the sums. ``--quick`` runs Part 1 alone (with ``--baseline`` if
+given) and writes no files: the measurement of the four models in well under 2 minutes.
+
+Run: ``python benchmarks/bench_models.py [--n N] [--repeat K] [--baseline-n M] [--baseline PATH]
+[--quick]``.
+Output: ``benchmarks/results/bench_models.{csv,nc,png}`` (none with ``--quick``).
 """
 
 from __future__ import annotations
@@ -56,6 +62,8 @@ def main(argv=None):
     parser.add_argument("--baseline", default="",
                         help="a copy of rockcem (with datasets/) to time Part 1 against, "
                              "interleaved (default none)")
+    parser.add_argument("--quick", action="store_true",
+                        help="the four models only (Part 1), no files written")
     args = parser.parse_args(argv)
 
     import pandas as pd
@@ -138,6 +146,11 @@ def main(argv=None):
         finite = all(np.all(np.isfinite(v)) for v in res)
         if not finite:
             print(f"WARNING: {name} returned non-finite values", flush=True)
+    _summary(rows)
+    if args.quick:
+        print(f"total benchmark time {time.perf_counter() - t_start:.1f} s (--quick: no files "
+              "written)")
+        return
 
     # ---- Part 2: vectorised self_consistent vs per-point scipy root (water-filled pores)
     idx = np.unique(np.linspace(0, args.n - 1, args.baseline_n).round().astype(int))
@@ -249,6 +262,32 @@ def main(argv=None):
         _plot(frame, args.n, args.tag)
     stem = _common.result_path("bench_models", "", args.tag)
     print(f"wrote {stem}{{csv,nc" + ("" if args.no_plot else ",png") + "}")
+
+
+MODEL_CASES = ("hs_gassmann", "self_consistent", "generalized_gassmann", "patchy_cement")
+
+
+def _summary(rows):
+    """Print the four models' best times per 10^6 points and their sum (issue 32's target: < 1 s
+    together), for this checkout alone and, where there, for the interleaved runs of both
+    copies."""
+    def line(label, suffix, kind):
+        best = {r["case"][:len(r["case"]) - len(suffix)]: r["best_s"] * 1e6 / r["n_points"]
+                for r in rows if r["kind"] == kind and r["case"].endswith(suffix)}
+        if not all(np.isfinite(best.get(c, np.nan)) for c in MODEL_CASES):
+            return None
+        total = sum(best[c] for c in MODEL_CASES)
+        print(f"{label}: " + ", ".join(f"{c} {best[c]:.3f}" for c in MODEL_CASES)
+              + f" s per 1e6 points; together {total:.3f} s (target < {TARGET_MODEL_S:g} s: "
+              + ("met)" if total < TARGET_MODEL_S else "missed)"), flush=True)
+        return total
+
+    print()
+    line("this checkout alone, best", "", "model")
+    mine = line("this checkout interleaved, best", "_interleaved", "model_interleaved")
+    base = line("--baseline interleaved, best", "_baseline", "model_baseline")
+    if mine and base:
+        print(f"together: --baseline / this checkout = {base / mine:.2f}x", flush=True)
 
 
 def _load_package(path):

@@ -7,6 +7,7 @@ phases on the **last axis**; leading axes broadcast (one row per depth, say). Fr
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -66,6 +67,80 @@ def _by_blocks(fn, K, G, f):
     return blockwise(kernel, *columns)
 
 
+def _fixed_moduli(K, G):
+    """The phase moduli as ``n`` numbers each where they are the same at every point (an
+    input of shape ``(n,)``, or repeated along the points by broadcasting: stride 0), else
+    ``None``."""
+    if K.size and all(a.ndim <= 1 or not any(a.strides[:-1]) for a in (K, G)):
+        return K.reshape(-1, K.shape[-1])[0], G.reshape(-1, G.shape[-1])[0]
+    return None
+
+
+def _by_fixed_blocks(fn, K, G, f):
+    """``fn(K, G, columns)`` over blocks of points (:func:`rockcem.validation.blockwise`):
+    ``K``, ``G`` the ``n`` numbers of the phases (the same at every point), ``columns`` the
+    ``n`` fractions of a block, one array each (not stacked); ``fn`` returns arrays of the
+    block's shape."""
+    return blockwise(lambda *c: fn(K, G, c), *(f[..., i] for i in range(f.shape[-1])))
+
+
+def _fixed_fast(K, G):
+    """Whether :func:`_hs_fixed` applies to the phase moduli ``K``, ``G`` (``n`` numbers):
+    every denominator :math:`M_i + z` of the four bounds exceeds 1e-300 (no zero, no overflow
+    of ``f / (M_i + z)``), i.e. no phase without shear stiffness."""
+    z_lo = np.min(G)
+    return (np.min(K) + 4.0 / 3.0 * z_lo > 1e-300
+            and np.min(G) + float(_zeta(np.min(K), z_lo)) > 1e-300)
+
+
+def _harmonic_fixed(values, columns, shift):
+    r""":math:`[\sum_i f_i / (v_i + s)]^{-1} - s`, clipped at 0 (:func:`_harmonic`, the same
+    operations in the same order, so the same values) for ``n`` numbers :math:`v_i` and one
+    number :math:`s` (every :math:`v_i + s > 10^{-300}`), the fractions :math:`f_i` one array
+    each: the denominators are numbers, and no mask is needed."""
+    total = columns[0] / (values[0] + shift)
+    for v, c in zip(values[1:], columns[1:]):
+        total += c / (v + shift)
+    total = np.divide(1.0, total, out=total) if total.ndim else 1.0 / total
+    total -= shift
+    # Clip the cancellation in inv - shift (as _harmonic); rarely anything to clip.
+    return np.maximum(total, 0.0) if total.min() < 0.0 else total
+
+
+def _hs_fixed(K, G, columns, *, lower=True, upper=True, shear=True):
+    r"""Hashin–Shtrikman bounds (:func:`hashin_shtrikman`, the same arithmetic and values) of
+    phases whose moduli ``K``, ``G`` are ``n`` numbers, the same at every point, for which
+    :func:`_fixed_fast` holds; ``columns``: the ``n`` checked fractions, one array each.
+
+    Where every phase is present the extreme moduli are numbers, the shifts :math:`\tfrac43
+    G_{\max/\min}` and :math:`\zeta` and the denominators :math:`M_i + z` too, and each
+    harmonic sum needs no mask (:func:`_harmonic_fixed`). Points where a phase is absent (a
+    zero fraction: the extremes are over the phases present) are computed again by the general
+    code (:func:`_hs_lower`, :func:`_hs_upper`), so each point's value never depends on its
+    neighbours. Returns ``(K-, G-)``, ``(K+, G+)`` or both, in that order; without ``shear``
+    the bulk moduli alone (``K-``, ``K+``)."""
+    out = []
+    for want, ext in ((lower, np.min), (upper, np.max)):
+        if want:
+            K_e, G_e = ext(K), ext(G)
+            out.append(_harmonic_fixed(K, columns, 4.0 / 3.0 * G_e))
+            if shear:
+                out.append(_harmonic_fixed(G, columns, _zeta(K_e, G_e)))
+    if all(c.min() > 0.0 for c in columns):
+        return tuple(out)
+    shape = np.broadcast_shapes(*(np.shape(c) for c in columns))
+    flat = [np.broadcast_to(c, shape).reshape(-1) for c in columns]
+    idx = np.flatnonzero(np.logical_or.reduce([c <= 0.0 for c in flat]))
+    f = np.stack([c[idx] for c in flat], -1)
+    Kp, Gp = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
+    parts = [bound for want, general in ((lower, _hs_lower), (upper, _hs_upper)) if want
+             for bound in general(Kp, Gp, f)[:2 if shear else 1]]
+    out = [np.array(np.broadcast_to(o, shape)) for o in out]
+    for o, p in zip(out, parts):
+        o.reshape(-1)[idx] = p
+    return tuple(out)
+
+
 def _harmonic(values, f, shift=0.0):
     r"""Return :math:`[\sum_i f_i / (v_i + s)]^{-1} - s` along the last axis.
 
@@ -97,6 +172,63 @@ def _harmonic(values, f, shift=0.0):
                        1.0 / np.where(np.isfinite(total) & (total > 0.0), total, 1.0))
     # Clip the cancellation in inv - shift (a bound that is exactly 0 may round to -1e-15).
     return np.maximum(inv - shift, 0.0)
+
+
+def _harmonic2(a, b, x, shift, x1=None, *, divide=False):
+    r""":math:`[x/(a+s) + x_1/(b+s)]^{-1} - s`, clipped at 0: :func:`_harmonic` of two phases
+    with fractions ``x`` and :math:`x_1` (``x1``, or ``1 - x`` if not given), without stacking
+    them. Where every denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a
+    denominator that is one number is inverted once (a product per point instead of a division,
+    within an ulp; with ``divide`` a division, the values of that function); other inputs go
+    to that function."""
+    da = a + shift
+    db = b + shift
+    if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
+        total = x * (1.0 / da) if np.ndim(da) == 0 and not divide else x / da
+        rest = 1.0 - x if x1 is None else x1
+        rest = rest * (1.0 / db) if np.ndim(db) == 0 and not divide else rest / db
+        total = _inplace(np.add, total, rest)
+        total = _inplace(np.divide, 1.0, total, out_arg=1)
+        total = _inplace(np.subtract, total, shift)
+        # Clip the cancellation in inv - shift (as that function); rarely anything to clip.
+        return np.maximum(total, 0.0) if _lowest(total) < 0.0 else total
+    a, b, x, x1, shift = np.broadcast_arrays(a, b, x, 1.0 - x if x1 is None else x1, shift)
+    return _harmonic(np.stack([a, b], axis=-1), np.stack([x, x1], axis=-1), shift)
+
+
+def _hs_upper2(K1, G1, K2, G2, f1, f2):
+    """Upper HS bound ``(K, G)`` of two phases (:func:`_hs_upper`, the same arithmetic and
+    values), each modulus and fraction an array or a number (checked, broadcasting), not
+    stacked: the extremes over the phases present, then :func:`_harmonic2`."""
+    K_max, G_max = np.maximum(K1, K2), np.maximum(G1, G2)
+    if not (_lowest(f1) > 0.0 and _lowest(f2) > 0.0):      # a phase absent somewhere
+        K_max = np.where(f1 > 0.0, np.where(f2 > 0.0, K_max, K1), K2)
+        G_max = np.where(f1 > 0.0, np.where(f2 > 0.0, G_max, G1), G2)
+    return (_harmonic2(K1, K2, f1, 4.0 / 3.0 * G_max, f2, divide=True),
+            _harmonic2(G1, G2, f1, _zeta(K_max, G_max), f2, divide=True))
+
+
+def _hill2(K1, G1, K2, G2, f1, f2):
+    """Hill average ``(K, G)`` of two phases (:func:`_hill`, eq. 19 of [Carcione2022]_, the same
+    arithmetic and values), each modulus and fraction an array or a number (checked,
+    broadcasting), not stacked."""
+    return (0.5 * (f1 * K1 + f2 * K2 + _harmonic2(K1, K2, f1, 0.0, f2, divide=True)),
+            0.5 * (f1 * G1 + f2 * G2 + _harmonic2(G1, G2, f1, 0.0, f2, divide=True)))
+
+
+def _inplace(ufunc, a, b, out_arg=0):
+    """``ufunc(a, b)``, written over the temporary ``(a, b)[out_arg]`` where it has the result's
+    shape (a temporary of the caller, never an input)."""
+    tmp, other = (a, b) if out_arg == 0 else (b, a)
+    if isinstance(tmp, np.ndarray) and tmp.ndim and (np.ndim(other) == 0
+                                                     or np.shape(other) == tmp.shape):
+        return ufunc(a, b, out=tmp)
+    return ufunc(a, b)
+
+
+def _lowest(a):
+    """The least element of a checked array or number (``min`` without numpy's dispatch)."""
+    return a.min() if isinstance(a, np.ndarray) else a
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))
@@ -204,7 +336,11 @@ def hashin_shtrikman(K, G, fractions) -> Bounds:
     >>> round(float(b.K_lower), 4), round(float(b.K_upper), 4)
     (38.4314, 38.4407)
     """
-    return Bounds(*_by_blocks(_hs_both, *_phases(K, G, fractions)))
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Bounds(*_by_fixed_blocks(_hs_fixed, *fixed, f))
+    return Bounds(*_by_blocks(_hs_both, K, G, f))
 
 
 def _hs_both(K, G, f):
@@ -237,7 +373,11 @@ def _hs_lower(K, G, f):
 @labelled(units="GPa", phases=("K", "G", "fractions"))
 def hashin_shtrikman_upper(K, G, fractions) -> Moduli:
     """The upper Hashin–Shtrikman bound alone (same parameters as :func:`hashin_shtrikman`)."""
-    return Moduli(*_by_blocks(_hs_upper, *_phases(K, G, fractions)))
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Moduli(*_by_fixed_blocks(functools.partial(_hs_fixed, lower=False), *fixed, f))
+    return Moduli(*_by_blocks(_hs_upper, K, G, f))
 
 
 @labelled(units="GPa", phases=("K", "G", "fractions"))
@@ -250,4 +390,32 @@ def hashin_shtrikman_average(K, G, fractions) -> Moduli:
 
     Same parameters as :func:`hashin_shtrikman`; returns ``Moduli`` of shape ``(...)``.
     """
-    return hashin_shtrikman(K, G, fractions).average
+    K, G, f = _phases(K, G, fractions)
+    fixed = _fixed_moduli(K, G)
+    if fixed is not None and _fixed_fast(*fixed):
+        return Moduli(*_by_fixed_blocks(_hs_average_fixed, *fixed, f))
+    return Bounds(*_by_blocks(_hs_both, K, G, f)).average
+
+
+def _hs_average(K, G, columns, *, shear=True):
+    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) of checked fractions, one
+    array per phase (``columns``), and phase moduli ``K``, ``G`` that are ``n`` checked
+    numbers each, the same at every point; no blocks (for a caller that works in blocks).
+    Returns ``(K, G)``, or ``(K,)`` without ``shear``."""
+    if _fixed_fast(K, G):
+        return _hs_average_fixed(K, G, columns, shear=shear)
+    f = np.stack(np.broadcast_arrays(*columns), axis=-1)
+    K, G = np.broadcast_to(K, f.shape), np.broadcast_to(G, f.shape)
+    return tuple(Bounds(*_hs_both(K, G, f)).average)[:2 if shear else 1]
+
+
+def _hs_average_fixed(K, G, columns, *, shear=True):
+    """Eq. C.3 of [Carcione2022]_ (:func:`hashin_shtrikman_average`) by :func:`_hs_fixed`:
+    ``(K, G)`` (``(K,)`` without ``shear``), each the mean of its two bounds."""
+    bounds = _hs_fixed(K, G, columns, shear=shear)
+    m = len(bounds) // 2
+    out = []
+    for lo, hi in zip(bounds[:m], bounds[m:]):
+        lo += hi
+        out.append(lo * 0.5)
+    return tuple(out)

@@ -63,12 +63,21 @@ def gassmann(K_dry, K_min, K_fluid, phi):
     if np.any(K_dry > K_min * (1.0 + 1e-12)):
         raise ValueError("K_dry must not exceed K_min (the frame cannot be stiffer than its "
                          "mineral)")
+    return _gassmann(K_dry, K_min, K_fluid, phi)
+
+
+def _gassmann(K_dry, K_min, K_fluid, phi):
+    """Eqs. 4–6 of [Carcione2022]_ (:func:`gassmann`, the same arithmetic) of checked inputs
+    that broadcast, ``K_dry <= K_min``."""
     alpha = 1.0 - K_dry / K_min
     denom = (alpha - phi) * K_fluid + phi * K_min
-    ok = denom > 0.0
     # alpha^2 M as alpha (alpha M): where alpha and phi are both tiny, M alone overflows while
     # alpha M stays below K_min K_fluid / ((alpha - phi) K_fluid + phi K_min) * alpha, finite.
-    alpha_M = np.where(ok, alpha * K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
+    if np.size(denom) == 0 or np.min(denom) > 0.0:     # the common case: no guard needed
+        alpha_M = alpha * K_min * K_fluid / denom
+    else:
+        ok = denom > 0.0
+        alpha_M = np.where(ok, alpha * K_min * K_fluid / np.where(ok, denom, 1.0), 0.0)
     # Where denom = 0 (K_f = 0 and phi = 0, or phi = 0 and K_dry = K_min) there is nothing to add.
     return K_dry + alpha * alpha_M
 
@@ -200,14 +209,33 @@ def generalized_gassmann(K_frame, K_solid, solid_fractions, K_fluid, phi):
     """
     beta, K_i, K_mi, K_fluid, phi = _generalized_inputs(K_solid, solid_fractions, K_fluid, phi,
                                                         K_frame=K_frame)
-    alpha_i = beta - K_mi / K_i
-    alpha = sum_phases(alpha_i)
-    compliance = sum_phases((alpha_i - beta * phi[..., None]) / K_i)
+    return _generalized_gassmann(K_mi, K_i, beta, K_fluid, phi)
+
+
+def _generalized_gassmann(K_mi, K_i, beta, K_fluid, phi):
+    """Eqs. 10–12 of [Carcione2022]_ (:func:`generalized_gassmann`) of checked inputs that
+    broadcast (the phase arrays ``K_mi``, ``K_i``, ``beta`` with the phases last, ``K_fluid``
+    and ``phi`` without), phase by phase: the sums over the phases are those of
+    :func:`rockcem.validation.sum_phases` (the same additions in the same order), without a
+    temporary with a short last axis (a per-row cost in numpy)."""
+    alpha = compliance = K_m = None
+    for i in range(beta.shape[-1]):
+        b, k, k_m = beta[..., i], K_i[..., i], K_mi[..., i]
+        alpha_i = b - k_m / k
+        term = (alpha_i - b * phi) / k
+        if alpha is None:
+            alpha, compliance, K_m = alpha_i, term, k_m
+        else:
+            alpha = alpha + alpha_i
+            compliance = compliance + term
+            K_m = K_m + k_m
     # M = 1/(compliance + phi/K_f) = K_f / (K_f compliance + phi), finite for K_f = 0.
     denom = K_fluid * compliance + phi
-    ok = denom > 0.0
-    alpha_M = np.where(ok, alpha * K_fluid / np.where(ok, denom, 1.0), 0.0)   # as in gassmann
-    K_m = sum_phases(K_mi)
+    if np.size(denom) == 0 or np.min(denom) > 0.0:     # the common case: no guard needed
+        alpha_M = alpha * K_fluid / denom
+    else:
+        ok = denom > 0.0
+        alpha_M = np.where(ok, alpha * K_fluid / np.where(ok, denom, 1.0), 0.0)  # as gassmann
     # denom = 0 only when phi = 0 and sum(alpha_i/K_i) = 0, i.e. the frame is the mineral.
     return K_m + alpha * alpha_M
 

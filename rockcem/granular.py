@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bounds import _harmonic
+from .bounds import _harmonic2, _lowest
 from .constants import GPA_PER_MPA
 from .elastic import Moduli
 from .validation import (
@@ -114,42 +114,6 @@ def _zeta(K, G):
         return G / 6.0 * (9.0 * K + 8.0 * G) / (K + 2.0 * G)
     denom = K + 2.0 * G
     return np.where(G > 0.0, G / 6.0 * (9.0 * K + 8.0 * G) / np.where(denom > 0, denom, 1.0), 0.0)
-
-
-def _harmonic2(a, b, x, shift, x1=None):
-    r""":math:`[x/(a+s) + (1-x)/(b+s)]^{-1} - s`, clipped at 0: :func:`rockcem.bounds._harmonic`
-    of two phases with fractions ``x`` and ``1 - x``, without stacking them. Where every
-    denominator exceeds 1e-300 (no zero, no overflow: ``x <= 1``) a denominator that is one
-    number is inverted once (a product per point instead of a division, within an ulp); other
-    inputs go to that function. ``x1``: ``1 - x`` if the caller has it."""
-    da = a + shift
-    db = b + shift
-    if _lowest(da) > 1e-300 and _lowest(db) > 1e-300:
-        total = x * (1.0 / da) if np.ndim(da) == 0 else x / da
-        rest = 1.0 - x if x1 is None else x1
-        rest = rest * (1.0 / db) if np.ndim(db) == 0 else rest / db
-        total = _inplace(np.add, total, rest)
-        total = _inplace(np.divide, 1.0, total, out_arg=1)
-        total = _inplace(np.subtract, total, shift)
-        # Clip the cancellation in inv - shift (as that function); rarely anything to clip.
-        return np.maximum(total, 0.0) if _lowest(total) < 0.0 else total
-    a, b, x, shift = np.broadcast_arrays(a, b, x, shift)
-    return _harmonic(np.stack([a, b], axis=-1), np.stack([x, 1.0 - x], axis=-1), shift)
-
-
-def _inplace(ufunc, a, b, out_arg=0):
-    """``ufunc(a, b)``, written over the temporary ``(a, b)[out_arg]`` where it has the result's
-    shape (a temporary of the caller, never an input)."""
-    tmp, other = (a, b) if out_arg == 0 else (b, a)
-    if isinstance(tmp, np.ndarray) and tmp.ndim and (np.ndim(other) == 0
-                                                     or np.shape(other) == tmp.shape):
-        return ufunc(a, b, out=tmp)
-    return ufunc(a, b)
-
-
-def _lowest(a):
-    """The least element of a checked array or number (``min`` without numpy's dispatch)."""
-    return a.min() if isinstance(a, np.ndarray) else a
 
 
 def _hs_interpolate(K_a, G_a, K_b, G_b, frac_a, K_ref, G_ref) -> Moduli:
@@ -558,12 +522,15 @@ def contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme=1, thickness=0.0, *, sti
 
 
 def _contact_cement(K0, G0, Kc, Gc, phi, phic, n, scheme, eps, stiffness="fit",
-                    panels=64) -> Moduli:
-    """:func:`contact_cement` of arguments :func:`_shapes` has checked (the joint checks here)."""
+                    panels=64, *, alpha=None) -> Moduli:
+    """:func:`contact_cement` of arguments :func:`_shapes` has checked (the joint checks here).
+    ``alpha``: the cement radius of ``phi`` (:func:`_cement_radius`) where the caller has
+    computed it from the same arguments (``phi`` is then not read)."""
     nu0, nuc = _poisson("0", K0, G0), _poisson("c", Kc, Gc)
-    _not_above("phi", phi, "phic", phic)
     _check_scheme(scheme)
-    alpha = _cement_radius(phi, phic, n, scheme, eps)
+    if alpha is None:
+        _not_above("phi", phi, "phic", phic)
+        alpha = _cement_radius(phi, phic, n, scheme, eps)
     if alpha.size and np.max(alpha) > 1.0:
         raise ValueError(f"phi lies too far below phic for contact cement: the cement radius "
                          f"a/R reaches {float(np.max(alpha)):.3g} > 1 (the theory holds for a/R "
@@ -788,15 +755,17 @@ def patchy_cement(K0, G0, Kc, Gc, phi, phic, n, pressure, cement_fraction,
 
 
 def _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, scheme, eps, f,
-                   delta) -> Moduli:
-    """:func:`patchy_cement` of arguments checked by :func:`_shapes` (phi and phip <= phic)."""
-    from .bounds import _hill, _hs_upper
+                   delta, *, alpha=None) -> Moduli:
+    """:func:`patchy_cement` of arguments checked by :func:`_shapes` (phi and phip <= phic).
+    ``alpha``: the contact cement's radius (:func:`_cement_radius` of ``phic - min(phip,
+    limit)``) where the caller has computed it."""
+    from .bounds import _hill2, _hs_upper2
     from .inclusions import self_consistent
 
     # The building blocks below take the arguments checked by the caller (their own checks
     # skipped).
-    bonded = np.minimum(phip, limit)
-    cct = _contact_cement(K0, G0, Kc, Gc, phic_arr - bonded, phic_arr, n, scheme, eps)
+    phi_cct = None if alpha is not None else phic_arr - np.minimum(phip, limit)
+    cct = _contact_cement(K0, G0, Kc, Gc, phi_cct, phic_arr, n, scheme, eps, alpha=alpha)
     nu = _poisson("0", K0, G0)
     # The zero-porosity end member depends on the minerals and phic only: one solve per
     # distinct set (one for scalar arguments), not one per point.
@@ -806,12 +775,9 @@ def _patchy_cement(K0, G0, Kc, Gc, phi, phic_arr, n, pressure, phip, limit, sche
     def kernel(K0, G0, phic, n, pressure, f, delta, nu, cct_K, cct_G, phip, phi, s_K, s_G):
         hm_K, hm_G = _hm(K0, G0, phic, n, pressure, f, delta, nu)
         frac = np.clip(phip / phic, 0.0, 1.0)
-        b_K, b_G = _hs_upper(*np.broadcast_arrays(stack_phases(cct_K, hm_K),
-                                                  stack_phases(cct_G, hm_G),
-                                                  stack_phases(frac, 1.0 - frac)))
+        b_K, b_G = _hs_upper2(cct_K, cct_G, hm_K, hm_G, frac, 1.0 - frac)
         x = phi / phic
-        return _hill(*np.broadcast_arrays(stack_phases(s_K, b_K), stack_phases(s_G, b_G),
-                                          stack_phases(1.0 - x, x)))
+        return _hill2(s_K, s_G, b_K, b_G, 1.0 - x, x)
 
     return Moduli(*blockwise(kernel, K0, G0, phic_arr, n, pressure, f, delta, nu, cct.K, cct.G,
                              phip, phi, end_s.K, end_s.G))

@@ -25,11 +25,11 @@ from typing import NamedTuple
 import numpy as np
 
 from .validation import (BLOCK, MAX_DENSITY, as_array, broadcast, broadcast_phases,
-                          check_fractions, check_range, stack_phases, sum_phases)
-from .bounds import hashin_shtrikman_average
+                          check_fractions, check_modulus, check_range, stack_phases, sum_phases)
+from .bounds import _hs_average
 from .elastic import velocities
-from .fluids import gassmann, generalized_gassmann
-from .frames import krief, krief_multimineral
+from .fluids import _gassmann, _generalized_gassmann
+from .frames import MAX_KRIEF_EXPONENT, krief, krief_multimineral
 from .granular import _cement_radius, _patchy_cement, _shapes
 from .inclusions import _check_engine, _self_consistent, check_aspect_ratio
 from .materials import Fluid, Mineral
@@ -172,7 +172,8 @@ def bulk_density(mineral_density, solid_fractions, porosity, fluid_density):
     beta, rho, phi, rho_f = broadcast_phases(("solid_fractions", beta), mineral_density=rho,
                                              porosity=phi[..., None],
                                              fluid_density=rho_f[..., None])
-    return _bulk_density(rho, beta, phi[..., 0], rho_f[..., 0])
+    return _bulk_density(rho, [beta[..., i] for i in range(beta.shape[-1])], phi[..., 0],
+                         rho_f[..., 0])
 
 
 def _check_densities(mineral_density, fluid_density, porosity):
@@ -189,8 +190,12 @@ def _check_densities(mineral_density, fluid_density, porosity):
 
 def _bulk_density(rho, beta, phi, rho_f):
     """Eq. 24 of [Carcione2022]_ (:func:`bulk_density`) on checked inputs that broadcast:
-    ``rho`` and ``beta`` with the phases last, ``phi`` and ``rho_f`` without."""
-    solid = sum_phases(beta * rho)
+    ``rho`` with the phases last, ``beta`` one array per phase (a sequence), ``phi`` and
+    ``rho_f`` without phases. The sum over the phases is :func:`rockcem.validation.sum_phases`'
+    (the same additions in the same order)."""
+    solid = beta[0] * rho[..., 0]
+    for i in range(1, len(beta)):
+        solid = solid + beta[i] * rho[..., i]
     return (1.0 - phi) * solid + phi * rho_f
 
 
@@ -231,17 +236,34 @@ def hs_gassmann(minerals, solid_fractions, porosity, fluid, *, A=3.0) -> RockPro
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
-    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (fluid.K, 0),
+    K_f, rho = _checked_once(("K", K, True), ("G", G, True), A, fluid, phi, rho)
+    return _by_points(_hs_gassmann, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (K_f, 0),
                                      "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
 
 
+def _checked_once(K, G, A, fluid, phi, rho):
+    """The checks of the public steps of Models 1 and 3 that their blocks skip, once, with
+    those steps' messages and in their order: the minerals' moduli ``K``, ``G`` (each a name,
+    the moduli and whether 0 is allowed: as the first step that checks them), Krief's exponent
+    ``A``, the fluid's modulus (Gassmann's ``K_fluid``) and the densities
+    (:func:`bulk_density`'s). Returns the fluid's modulus and the minerals' densities as
+    arrays."""
+    for name, value, allow_zero in (K, G):
+        check_modulus(name, value, allow_zero=allow_zero)
+    check_range("A", as_array("A", A), 0.0, MAX_KRIEF_EXPONENT, low_open=True)
+    K_f = check_modulus("K_fluid", as_array("K_fluid", fluid.K), allow_zero=True)
+    return K_f, _check_densities(rho, fluid.rho, phi)
+
+
 def _hs_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
-    """Model 1 on a block of points (:func:`hs_gassmann`)."""
-    mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
-                                       np.broadcast_to(G, beta.shape), beta)
-    dry = krief(mineral.K, mineral.G, phi, A)
-    K_sat = gassmann(dry.K, mineral.K, K_f, phi)
-    return _finish(dry.K, dry.G, K_sat, dry.G, bulk_density(rho, beta, phi, rho_f))
+    """Model 1 on a block of points (:func:`hs_gassmann`); its inputs checked by it (the
+    mineral's moduli by :func:`rockcem.frames.krief`; Krief's frame is never stiffer than its
+    mineral, as Gassmann's equation requires)."""
+    columns = [beta[..., i] for i in range(beta.shape[-1])]
+    K_s, G_s = _hs_average(K, G, columns)
+    dry = krief(K_s, G_s, phi, A)
+    K_sat = _gassmann(dry.K, K_s, K_f, phi)
+    return _finish(dry.K, dry.G, K_sat, dry.G, _bulk_density(rho, columns, phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
@@ -281,9 +303,12 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
     if not tol > 0.0:
         raise ValueError(f"tol must be > 0; got {tol:g}")
     rho = _check_densities(rho, fluid.rho, phi)
-    # The phases' volume fractions, solids then pores, written into one array.
+    # The phases' volume fractions, solids then pores, written into one array, column by
+    # column (a product with a short last axis runs row by row in numpy, twice as slow).
     frac = np.empty(beta.shape[:-1] + (beta.shape[-1] + 1,))
-    np.multiply((1.0 - phi)[..., None], beta, out=frac[..., :-1])
+    solid = 1.0 - phi
+    for i in range(beta.shape[-1]):
+        np.multiply(solid, beta[..., i], out=frac[..., i])
     frac[..., -1] = phi
     aspect = stack_phases(*([np.ones_like(gamma)] * len(K)), gamma)
 
@@ -302,7 +327,8 @@ def self_consistent_model(minerals, solid_fractions, porosity, fluid, *, aspect_
 
     sat = solve(fluid.K, 0.0)
     dry = solve(0.0, 0.0) if np.any(np.asarray(fluid.K) > 0.0) else sat
-    return _finish(dry.K, dry.G, sat.K, sat.G, _bulk_density(rho, beta, phi, fluid.rho))
+    return _finish(dry.K, dry.G, sat.K, sat.G,
+                   _bulk_density(rho, [beta[..., i] for i in range(len(K))], phi, fluid.rho))
 
 
 @labelled(units=FIELD_UNITS, phases=("solid_fractions",))
@@ -319,19 +345,26 @@ def generalized_gassmann_model(minerals, solid_fractions, porosity, fluid, *,
     K, G, rho, beta, phi = _solids(minerals, solid_fractions, porosity)
     broadcast(porosity=phi, A=as_array("A", A))      # named before Krief's phi
     fluid = _fluid(fluid)
-    return _by_points(_generalized_gassmann, {"beta": (beta, 1), "phi": (phi, 0),
-                                              "K_f": (fluid.K, 0), "rho_f": (fluid.rho, 0),
-                                              "A": (A, 0)}, K=K, G=G, rho=rho)
+    K_f, rho = _checked_once(("K_solid", K, False), ("G_solid", G, True), A, fluid, phi, rho)
+    return _by_points(_model3, {"beta": (beta, 1), "phi": (phi, 0), "K_f": (K_f, 0),
+                                "rho_f": (fluid.rho, 0), "A": (A, 0)}, K=K, G=G, rho=rho)
 
 
-def _generalized_gassmann(beta, phi, K_f, rho_f, A, K, G, rho):
-    """Model 3 on a block of points (:func:`generalized_gassmann_model`)."""
+def _model3(beta, phi, K_f, rho_f, A, K, G, rho):
+    r"""Model 3 on a block of points (:func:`generalized_gassmann_model`); its inputs checked
+    by it (each solid's Biot coefficient is :math:`\beta_i (1 - K_s F / V_K) \ge 0`, with
+    the HS average :math:`K_s` at most the Voigt average :math:`V_K` and Krief's factor
+    :math:`F \le 1`, as the generalized Gassmann equation requires).
+
+    The solid fractions go to Krief's frame in column order (Fortran): its arithmetic with a
+    short last axis then runs along the points, not row by row (the same values)."""
+    beta = np.asfortranarray(beta)
     K_i = np.broadcast_to(K, beta.shape)
     frames = krief_multimineral(K_i, np.broadcast_to(G, beta.shape), beta, phi, A)
-    K_sat = generalized_gassmann(frames.K, K_i, beta, K_f, phi)
+    K_sat = _generalized_gassmann(frames.K, K, beta, K_f, phi)
     G_dry = sum_phases(frames.G)
     return _finish(sum_phases(frames.K), G_dry, K_sat, G_dry,
-                   bulk_density(rho, beta, phi, rho_f))
+                   _bulk_density(rho, [beta[..., i] for i in range(len(K))], phi, rho_f))
 
 
 @labelled(units=FIELD_UNITS)
@@ -402,17 +435,21 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
     phi, phip, _ = broadcast(porosity=phi, cement_fraction=phip, critical_porosity=phic)
     if np.any(phi + phip > 1.0 + 1e-12):
         raise ValueError("porosity + cement_fraction must not exceed 1")
+    one_phic = np.size(phic) == 1
+    phic_1 = float(np.reshape(phic, ())) if one_phic else None
     for name, value in (("porosity", phi), ("cement_fraction", phip),
                         ("contact_cement_limit", limit)):
-        if np.any(value > phic * (1.0 + 1e-12)):
+        # One number phic (the usual case): one reduction, no temporary of the value's size.
+        if (np.size(value) and np.max(value) > phic_1 * (1.0 + 1e-12)) if one_phic \
+                else np.any(value > phic * (1.0 + 1e-12)):
             raise ValueError(f"{name} must not exceed critical_porosity (the model holds for "
                              f"{name} in [0, critical_porosity])")
-    # The contact cement's radius, checked here to name the scene's keys; patchy_cement's
-    # contact_cement computes it again (a few vector operations). Its arguments are checked
-    # above (phic - min(phip, limit) lies in [0, phic]), so are patchy_cement's but the minerals'
-    # moduli, checked next: the building blocks' checks are skipped.
+    # The contact cement's radius, checked here to name the scene's keys, and passed on to
+    # patchy_cement's contact cement. Its arguments are checked above (phic - min(phip, limit)
+    # lies in [0, phic]), so are patchy_cement's but the minerals' moduli, checked next: the
+    # building blocks' checks are skipped.
     alpha = _cement_radius(phic - np.minimum(phip, limit), phic, n, scheme, eps)
-    if np.any(alpha > 1.0):
+    if np.size(alpha) and np.max(alpha) > 1.0:
         raise ValueError(f"the cement at the grain contacts (cement_fraction up to "
                          f"contact_cement_limit) is more than the contact model holds at this "
                          f"coordination_number and critical_porosity: its radius a/R reaches "
@@ -421,32 +458,64 @@ def patchy_cement_model(grain, cement, porosity, cement_fraction, pressure, flui
     # A porosity the check lets a rounding above phic (the IGV at zero pressure, computed, is
     # phi0 + 1 ulp) is phic for the frame: its Hill weight 1 - phi/phic would be -1 ulp, and a
     # frame of zero moduli (no pressure, no delta) would come out at -4e-15 GPa.
-    dry = _patchy_cement(K0, G0, Kc, Gc, np.minimum(phi, phic), phic, n, pressure, phip, limit,
-                         scheme, eps, f, delta)
-    beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
-    beta = stack_phases(1.0 - beta_c, beta_c)
+    phi_frame = phi if one_phic and (phi.size == 0 or np.max(phi) <= phic_1) \
+        else np.minimum(phi, phic)
+    dry = _patchy_cement(K0, G0, Kc, Gc, phi_frame, phic, n, pressure, phip, limit, scheme, eps,
+                         f, delta, alpha=alpha)
+    # Gassmann's and the bulk density's checks (the rest of their inputs are checked above).
+    K_f = check_modulus("K_fluid", as_array("K_fluid", fluid.K), allow_zero=True)
+    rho = _check_densities([grain.rho, cement.rho], fluid.rho, phi)
     K = np.array([grain.K, cement.K])
     G = np.array([grain.G, cement.G])
-    mineral = hashin_shtrikman_average(np.broadcast_to(K, beta.shape),
-                                       np.broadcast_to(G, beta.shape), beta)
-    # The dry frame's zero-porosity end member is the self-consistent mix of grain and cement
-    # in proportions 1 - critical_porosity : critical_porosity, the mineral modulus the HS
-    # average in the rock's own proportions: near zero porosity the frame may exceed the
-    # mineral, by < 1e-4 for quartz cement (capped here), by up to 30 % for a cement much
-    # softer than the grain (refused: the model does not hold there).
-    excess = dry.K / mineral.K
-    if np.any(excess > 1.0 + MAX_FRAME_EXCESS):
-        i = np.unravel_index(np.argmax(excess), excess.shape)
-        raise ValueError(
-            f"Model 4 does not hold at porosity {float(np.broadcast_to(phi, excess.shape)[i]):g}"
-            f", cement_fraction {float(np.broadcast_to(phip, excess.shape)[i]):g}: its dry "
-            f"frame ({float(dry.K[i]):.4g} GPa) is stiffer than the grain and cement it is made "
-            f"of ({float(mineral.K[i]):.4g} GPa), as happens near zero porosity with a cement "
-            "much softer than the grain")
-    K_dry = np.minimum(dry.K, mineral.K)
-    K_sat = gassmann(K_dry, mineral.K, fluid.K, phi)
-    rho = bulk_density([grain.rho, cement.rho], beta, phi, fluid.rho)
-    return _finish(K_dry, dry.G, K_sat, dry.G, rho)
+    most = []
+    rock = _by_points(_model4_rock, {"K_dry": (dry.K, 0), "G_dry": (dry.G, 0), "phi": (phi, 0),
+                                     "phip": (phip, 0), "K_f": (K_f, 0),
+                                     "rho_f": (fluid.rho, 0)}, K=K, G=G, rho=rho, most=most)
+    if max(most, default=0.0) > 1.0 + MAX_FRAME_EXCESS:
+        _refuse_frame_stiffer(dry.K, phi, phip, K, G)
+    return rock
+
+
+def _model4_rock(K_dry, G_dry, phi, phip, K_f, rho_f, K, G, rho, most):
+    """Model 4 on a block of points, from its dry frame on: the mineral modulus (the HS
+    average of grain and cement in the rock's proportions), the frame capped at it,
+    Gassmann's equation, the bulk density (:func:`patchy_cement_model`; inputs checked by
+    it). Appends the block's largest ratio of frame to mineral bulk modulus to ``most``.
+
+    The dry frame's zero-porosity end member is the self-consistent mix of grain and cement
+    in proportions 1 - critical_porosity : critical_porosity, the mineral modulus the HS
+    average in the rock's own proportions: near zero porosity the frame may exceed the
+    mineral, by < 1e-4 for quartz cement (capped here), by up to 30 % for a cement much
+    softer than the grain (refused by the caller: the model does not hold there)."""
+    beta = _model4_solids(phi, phip)
+    K_s, = _hs_average(K, G, beta, shear=False)
+    if np.size(K_dry):
+        most.append(float(np.max(K_dry / K_s)))
+    K_dry = np.minimum(K_dry, K_s)
+    K_sat = _gassmann(K_dry, K_s, K_f, phi)
+    return _finish(K_dry, G_dry, K_sat, G_dry, _bulk_density(rho, beta, phi, rho_f))
+
+
+def _model4_solids(phi, phip):
+    r"""Model 4's solid fractions, grain and cement: :math:`1 - \beta_c` and
+    :math:`\beta_c = \phi_p / (1 - \phi)` (clipped to [0, 1])."""
+    beta_c = np.clip(phip / (1.0 - phi), 0.0, 1.0)
+    return [1.0 - beta_c, beta_c]
+
+
+def _refuse_frame_stiffer(K_dry, phi, phip, K, G):
+    """Refuse Model 4 where its dry frame ``K_dry`` exceeds its mineral's bulk modulus by more
+    than :data:`MAX_FRAME_EXCESS`, naming the point of the largest excess."""
+    beta = _model4_solids(phi, phip)
+    K_s, = _hs_average(K, G, np.broadcast_arrays(*beta), shear=False)
+    excess = K_dry / K_s
+    i = np.unravel_index(np.argmax(excess), excess.shape)
+    raise ValueError(
+        f"Model 4 does not hold at porosity {float(np.broadcast_to(phi, excess.shape)[i]):g}"
+        f", cement_fraction {float(np.broadcast_to(phip, excess.shape)[i]):g}: its dry "
+        f"frame ({float(K_dry[i]):.4g} GPa) is stiffer than the grain and cement it is made "
+        f"of ({float(np.broadcast_to(K_s, excess.shape)[i]):.4g} GPa), as happens near zero "
+        "porosity with a cement much softer than the grain")
 
 
 #: The petro-elastic models by their label in datasets (coordinate ``model``).

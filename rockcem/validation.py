@@ -160,7 +160,9 @@ def check_fractions(name: str, fractions: np.ndarray, *, atol: float = 1e-6) -> 
         raise ValueError(f"{name} must have the phases on its last axis (at least one)")
     check_range(name, fractions, 0.0, 1.0)
     total = sum_phases(fractions)
-    if np.any(np.abs(total - 1.0) > atol):
+    # |total - 1| > atol somewhere, by two reductions (no boolean temporaries).
+    off = np.subtract(total, 1.0)
+    if off.size and (off.min() < -atol or off.max() > atol):
         worst = total.flat[np.argmax(np.abs(total - 1.0))]
         raise ValueError(f"{name} must sum to 1 along the last axis (phases); "
                          f"got a sum of {worst:g}")
