@@ -28,8 +28,7 @@ So lattice / continuum - 1 is the lattice's whole error, staircase / continuum -
 that is geometry, and lattice / staircase - 1 the lattice's own (its springs and its
 grain-cement bonds).
 
-Output: ``results/md_rotations_reference.csv`` (every member) and
-``results/md_rotations_reference_continuum.csv`` (the refinement sequences).
+Output: ``results/md_rotations_reference.csv`` (every member).
 Run: ``python benchmarks/md_rotations_reference.py [--omega 8 12 16 24 32] [--eps 0.05]
 [--alpha 0.5] [--cement hard soft] [--staircase-omega 8 12 16]``.
 """
@@ -78,7 +77,8 @@ def _isotropic(shear_modulus, p_modulus):
 
 
 def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p_modulus,
-                           radius=1.0, power=1.5, half_height=None, confined=False):
+                           rotation_modulus=0.0, radius=1.0, power=1.5, half_height=None,
+                           confined=False):
     r"""Normal and tangential stiffness of a cement neck between two rigid spheres, by
     finite elements in the (r, z) half-plane.
 
@@ -99,7 +99,13 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
               \gamma_{\theta z} = V_{,z} - nW/r
 
     (times :math:`\cos` or :math:`\sin n\theta`; n = 1, and n = 0 with V the decoupled
-    torsion, held at zero). On the axis the displacement is single-valued: :math:`U = 0`
+    torsion, held at zero). The energy density is the isotropic
+    :math:`\tfrac12\lambda(\mathrm{tr}\,\varepsilon)^2 + G\,\varepsilon:\varepsilon` plus,
+    with ``rotation_modulus`` :math:`d`, a penalty on the material rotation
+    :math:`d\,\omega_{ij}\omega_{ij} = \tfrac12 d\,|2\boldsymbol\omega|^2` (the long-wave
+    energy of the translations-only cement lattice, :func:`lattice_continuum`), with
+    :math:`2\omega_r = -nW/r - V_{,z}`, :math:`2\omega_\theta = U_{,z} - W_{,r}`,
+    :math:`2\omega_z = V_{,r} + (V + nU)/r`. On the axis the displacement is single-valued: :math:`U = 0`
     (n = 0), :math:`V = -U`, :math:`W = 0` (n = 1). The stiffness is
     :math:`k = \mathbf u^T K \mathbf u/\delta^2` (twice the strain energy), with
     :math:`K = c_n \int B^T D B\, r\,dr\,dz`, :math:`c_0 = 2\pi`, :math:`c_1 = \pi`.
@@ -121,6 +127,8 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
         Elements along r and along z, ``>= 1``.
     shear_modulus, p_modulus : float
         The cement's :math:`G_c` and :math:`M_c = K_c + \tfrac43 G_c`, Pa.
+    rotation_modulus : float
+        :math:`d`, Pa, ``>= 0`` (0: the isotropic cement).
     radius : float
         R, m.
     power : float
@@ -150,6 +158,8 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
         raise ValueError(f"power must be >= 1; got {power}")
     if not (shear_modulus > 0 and p_modulus > 4.0 / 3.0 * shear_modulus):
         raise ValueError("need shear_modulus > 0 and p_modulus > 4/3 shear_modulus (Pa)")
+    if not rotation_modulus >= 0.0:
+        raise ValueError(f"rotation_modulus must be >= 0 Pa; got {rotation_modulus}")
     n = int(n)
     a = alpha * R
     if half_height is None:
@@ -202,10 +212,12 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
     Nor = Nv[None] / r[..., None]
     w = (gw[:, None] * gw[None, :])[None] * 0.25 * ((s1 - s0) * (t1 - t0))[:, None, None]
     dV = w * r * a * hr                                            # r dr dz
-    D = _isotropic(shear_modulus, p_modulus)
+    D = np.zeros((9, 9))
+    D[:6, :6] = _isotropic(shear_modulus, p_modulus)
+    D[6:, 6:] = 0.5 * rotation_modulus * np.eye(3)
     results = []
     for mode in (0, 1):
-        B = np.zeros(Nv.shape[:0] + S.shape + (6, 27))
+        B = np.zeros(S.shape + (9, 27))
         iU, iV, iW = np.arange(9) * 3, np.arange(9) * 3 + 1, np.arange(9) * 3 + 2
         B[..., 0, iU] = Nr
         B[..., 1, iU] = Nor
@@ -217,6 +229,12 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
         B[..., 4, iU] = -mode * Nor
         B[..., 5, iV] = Nz
         B[..., 5, iW] = -mode * Nor
+        B[..., 6, iW] = -mode * Nor                     # 2 omega_r
+        B[..., 6, iV] = -Nz
+        B[..., 7, iU] = Nz                              # 2 omega_theta
+        B[..., 7, iW] = -Nr
+        B[..., 8, iV] = Nr + Nor                        # 2 omega_z
+        B[..., 8, iU] = mode * Nor
         c = 2.0 * np.pi if mode == 0 else np.pi
         Ke = c * np.einsum("egkia,ij,egkjb,egk->eab", B, D, B, dV, optimize=True)
         dof = (3 * conn[:, :, None] + np.arange(3)[None, None, :]).reshape(-1, 27)
@@ -266,17 +284,46 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
     return results[0], results[1]
 
 
+def lattice_continuum(cement, rotations):
+    """The continuum the cement lattice tends to at long wavelengths (``md.cement.
+    lattice_constants``, ``rule="waves"``): ``(shear_modulus, p_modulus, rotation_modulus)``,
+    Pa, for :func:`axisymmetric_stiffness`.
+
+    Summing the energy of the 9 bonds per cell of García & Medina's eq. 6 for a uniform
+    displacement gradient :math:`F` (central term :math:`C_n(\hat x\cdot F\hat x)^2|x|^2`,
+    tangential term :math:`C|F\hat x|^2`, over the 3 face and 6 edge bonds whose
+    :math:`\sum\hat x\hat x^T = 3I`) gives, with the rotating lattice's constants
+    (:math:`C_n = \lambda_c c_w`, :math:`C = \tfrac23(G_c - \lambda_c)c_w^3`, the tangential
+    term on the strain only), the isotropic cement :math:`(\lambda_c, G_c)`; with the
+    translations-only constants (:math:`C_n = \tfrac12(M_c - G_c)c_w`,
+    :math:`C = \tfrac16(3G_c - M_c)c_w^3`, on the whole gradient) an isotropic solid with
+    :math:`\lambda' = (\lambda_c + G_c)/2`, :math:`G' = (\lambda_c + 3G_c)/4` (so
+    :math:`M' = M_c`) plus the rotation penalty :math:`d\,\omega:\omega` with
+    :math:`d = 3C/2c_w^3 = (G_c - \lambda_c)/4`; its simple-shear modulus
+    :math:`G' + d = G_c`, as calibrated, but a rigid rotation costs energy.
+    (Derived here; ``tests/md/test_rotations_reference.py`` checks it against the bond sums.)
+    """
+    G, M = cement.shear_modulus, cement.p_modulus
+    lam = M - 2.0 * G
+    if rotations:
+        return G, M, 0.0
+    return 0.25 * (lam + 3.0 * G), M, 0.25 * (G - lam)
+
+
 def richardson(h, y):
     """Observed order and limit of the last three members of a sequence ``y(h)`` refined by a
     constant ratio (Roache 1998, *Verification and Validation in Computational Science*, eqs.
     5.4.1-5.4.3): :math:`p = \\ln((y_1 - y_2)/(y_2 - y_3))/\\ln r`, limit
     :math:`y_3 + (y_3 - y_2)/(r^p - 1)`, and the error estimate :math:`|y_3 - y_2|/(r^p - 1)`.
-    With a non-monotone sequence (the differences change sign) the order is undefined: the
-    limit is the last value and its error the last change."""
+    With a non-monotone sequence (the differences change sign) or one whose changes do not
+    shrink, the order is undefined: the limit is the last value and its error the last
+    change."""
     h, y = np.asarray(h, float)[-3:], np.asarray(y, float)[-3:]
+    if y.size < 3:
+        return math.nan, float(y[-1]), float(abs(y[-1] - y[0]))
     ratio = h[0] / h[1]
     d1, d2 = y[0] - y[1], y[1] - y[2]
-    if d1 * d2 <= 0 or not np.isclose(h[1] / h[2], ratio):
+    if d1 * d2 <= 0 or abs(d2) >= abs(d1) or not np.isclose(h[1] / h[2], ratio):
         return math.nan, float(y[2]), float(abs(d2))
     p = math.log(d1 / d2) / math.log(ratio)
     err = abs(d2) / (ratio**p - 1.0)
@@ -415,47 +462,68 @@ def staircase_stiffness(radius_ratio, resolution, thickness_ratio, subdivision, 
 
 # ----------------------------------------------------------------------------- runs
 def continuum_rows(alpha, eps, cement, radius, levels):
-    """The continuum reference's refinement sequence and its Richardson limit."""
+    """The continuum references' refinement sequences and their Richardson limits: the
+    cement (``material="cement"``) and the translations-only lattice's long-wave continuum
+    (``"translations_limit"``, :func:`lattice_continuum`)."""
     rows = []
-    for n in levels:
-        t0 = time.perf_counter()
-        kn, kt = axisymmetric_stiffness(alpha, eps, n, shear_modulus=cement.shear_modulus,
-                                        p_modulus=cement.p_modulus, radius=radius)
-        rows.append(dict(kind="continuum", alpha=alpha, eps=eps, elements=n, kn=kn, kt=kt,
-                         seconds=time.perf_counter() - t0))
-        print(f"continuum a/R {alpha} eps {eps} n {n:3d}: kn {kn:.9e} kt {kt:.9e} "
-              f"({rows[-1]['seconds']:.1f} s)", flush=True)
-    h = [1.0 / r["elements"] for r in rows]
-    limit = {"kind": "continuum_limit", "alpha": alpha, "eps": eps, "elements": np.inf}
-    for key in ("kn", "kt"):
-        p, lim, err = richardson(h, [r[key] for r in rows])
-        limit.update({key: lim, f"{key}_order": p, f"{key}_error": err})
-    rows.append(limit)
-    print(f"continuum limit: kn {limit['kn']:.9e} +- {limit['kn_error']:.1e} (order "
-          f"{limit['kn_order']:.2f}), kt {limit['kt']:.9e} +- {limit['kt_error']:.1e} (order "
-          f"{limit['kt_order']:.2f})", flush=True)
+    for material, rotations in (("cement", True), ("translations_limit", False)):
+        G, M, d = lattice_continuum(cement, rotations)
+        seq = []
+        for n in levels:
+            t0 = time.perf_counter()
+            kn, kt = axisymmetric_stiffness(alpha, eps, n, shear_modulus=G, p_modulus=M,
+                                            rotation_modulus=d, radius=radius)
+            seq.append(dict(kind="continuum", material=material, alpha=alpha, eps=eps,
+                            elements=n, kn=kn, kt=kt, seconds=time.perf_counter() - t0))
+        limit = dict(kind="continuum_limit", material=material, alpha=alpha, eps=eps,
+                     elements=np.inf)
+        for key in ("kn", "kt"):
+            p, lim, err = richardson([1.0 / r["elements"] for r in seq], [r[key] for r in seq])
+            limit.update({key: lim, f"{key}_order": p, f"{key}_error": err})
+        print(f"continuum ({material}) a/R {alpha} eps {eps}: "
+              + ", ".join(f"n {r['elements']}: {r['kn']:.9e} / {r['kt']:.9e}" for r in seq)
+              + f"; limit {limit['kn']:.9e} +- {limit['kn_error']:.1e} (order "
+              f"{limit['kn_order']:.2f}) / {limit['kt']:.9e} +- {limit['kt_error']:.1e} (order "
+              f"{limit['kt_order']:.2f})", flush=True)
+        rows += seq + [limit]
     return rows
 
 
-def lattice_rows(alpha, eps, cement, radius, omegas, rigid):
+def offsets(count, seed=0):
+    """``count`` lattice offsets (cells, in [0, 1)^3): the origin first, then a scrambled
+    Halton sequence (scipy.stats.qmc)."""
+    from scipy.stats import qmc
+
+    if count <= 1:
+        return np.zeros((1, 3))
+    return np.vstack([np.zeros(3), qmc.Halton(3, scramble=True, seed=seed).random(count - 1)])
+
+
+def lattice_rows(alpha, eps, cement, radius, omegas, rigid, shifts):
+    """Both lattices at every Omega and every lattice offset of ``shifts``."""
     from md.cemented_contact import lattice_contact_stiffness
 
     rows = []
     for omega in omegas:
         for rotations in (False, True):
-            t0 = time.perf_counter()
-            k = lattice_contact_stiffness(alpha, omega, radius=radius, thickness_ratio=eps,
-                                          material=rigid, cement=cement, rotations=rotations)
-            rows.append(dict(kind="lattice", alpha=alpha, eps=eps, omega=omega,
-                             rotations="yes" if rotations else "no", kn=k.normal,
-                             kt=k.tangential, seconds=time.perf_counter() - t0))
-            print(f"lattice a/R {alpha} eps {eps} Omega {omega:3g} rot {rotations:d}: kn "
-                  f"{k.normal:.6e} kt {k.tangential:.6e} ({rows[-1]['seconds']:.1f} s)",
-                  flush=True)
+            for o, off in enumerate(shifts):
+                t0 = time.perf_counter()
+                k = lattice_contact_stiffness(alpha, omega, radius=radius, thickness_ratio=eps,
+                                              material=rigid, cement=cement,
+                                              rotations=rotations, lattice_offset=tuple(off))
+                rows.append(dict(kind="lattice", alpha=alpha, eps=eps, omega=omega,
+                                 rotations="yes" if rotations else "no", offset=o,
+                                 offset_x=off[0], offset_y=off[1], offset_z=off[2],
+                                 kn=k.normal, kt=k.tangential,
+                                 seconds=time.perf_counter() - t0))
+                print(f"lattice a/R {alpha} eps {eps} Omega {omega:3g} rot {rotations:d} offset "
+                      f"{o}: kn {k.normal:.6e} kt {k.tangential:.6e} "
+                      f"({rows[-1]['seconds']:.1f} s)", flush=True)
     return rows
 
 
 def staircase_rows(alpha, eps, cement, radius, omegas, subdivisions):
+    """The staircase body at every Omega, sub-divided, and its Richardson limit in 1/s."""
     rows = []
     for omega in omegas:
         seq = []
@@ -480,6 +548,48 @@ def staircase_rows(alpha, eps, cement, radius, omegas, subdivisions):
     return rows
 
 
+def _fmt(r, key):
+    return f"{r[key]:.3f}"
+
+
+def summary(df):
+    """Markdown tables of the run: every stiffness over the cement's continuum limit."""
+    lines = []
+    for (alpha, eps), g in df.groupby(["alpha", "eps"]):
+        ref = g[(g.kind == "continuum_limit") & (g.material == "cement")].iloc[0]
+        tl = g[(g.kind == "continuum_limit") & (g.material == "translations_limit")].iloc[0]
+        lines += [f"\na/R {alpha:g}, eps {eps:g}: continuum {ref.kn:.6e} +- {ref.kn_error:.0e} "
+                  f"/ {ref.kt:.6e} +- {ref.kt_error:.0e} N/m; the translations-only lattice's "
+                  f"limit {tl.kn / ref.kn:.4f} / {tl.kt / ref.kt:.4f} of it",
+                  "", "| Omega | translations only | rotating | rotating / translations | "
+                  "staircase (s -> inf) |", "|---:|---|---|---|---|"]
+        lat = g[(g.kind == "lattice") & (g.offset == 0)]
+        st = g[g.kind == "staircase_limit"].set_index("omega")
+        for omega, o in lat.groupby("omega"):
+            t, r = o[o.rotations == "no"].iloc[0], o[o.rotations == "yes"].iloc[0]
+            stc = (f"{st.loc[omega, 'kn_ratio']:.3f} / {st.loc[omega, 'kt_ratio']:.3f}"
+                   if omega in st.index else "–")
+            lines.append(f"| {omega:g} | {t.kn_ratio:.3f} / {t.kt_ratio:.3f} | "
+                         f"{r.kn_ratio:.3f} / {r.kt_ratio:.3f} | {r.kn / t.kn:.4f} / "
+                         f"{r.kt / t.kt:.4f} | {stc} |")
+        many = g[g.kind == "lattice"].groupby(["omega", "rotations"])
+        if many.offset.nunique().max() > 1:
+            lines += ["", "mean over lattice offsets (+- standard error of the mean):", "",
+                      "| Omega | offsets | translations only | rotating |", "|---:|---:|---|---|"]
+            for omega, o in g[g.kind == "lattice"].groupby("omega"):
+                if o.offset.nunique() < 2:
+                    continue
+                cell = {}
+                for rot, q in o.groupby("rotations"):
+                    se = q[["kn_ratio", "kt_ratio"]].std(ddof=1) / np.sqrt(len(q))
+                    m = q[["kn_ratio", "kt_ratio"]].mean()
+                    cell[rot] = (f"{m.kn_ratio:.3f} +- {se.kn_ratio:.3f} / {m.kt_ratio:.3f} +- "
+                                 f"{se.kt_ratio:.3f}")
+                lines.append(f"| {omega:g} | {o.offset.nunique()} | {cell['no']} | "
+                             f"{cell['yes']} |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
     import pandas as pd
 
@@ -487,13 +597,17 @@ def main(argv=None):
     from md.contact import QUARTZ, GrainMaterial
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--omega", type=float, nargs="+", default=[8, 10, 12, 14, 16, 20, 24, 28, 32])
-    ap.add_argument("--alpha", type=float, nargs="+", default=[0.5])
+    ap.add_argument("--omega", type=float, nargs="+", default=[8, 10, 12, 14, 16, 20, 24, 32])
+    ap.add_argument("--alpha", type=float, default=0.5)
     ap.add_argument("--eps", type=float, nargs="+", default=[0.05, 0.1])
     ap.add_argument("--cement", choices=["hard", "soft"], default="hard")
     ap.add_argument("--levels", type=int, nargs="+", default=[4, 8, 16, 32, 64],
                     help="continuum elements per side, halving steps")
-    ap.add_argument("--staircase-omega", type=float, nargs="*", default=[8, 12, 16, 24])
+    ap.add_argument("--offsets", type=int, default=6,
+                    help="lattice offsets (the origin and a Halton sequence) at --offset-omega")
+    ap.add_argument("--offset-omega", type=float, nargs="*", default=[8, 12, 18, 27])
+    ap.add_argument("--staircase-omega", type=float, nargs="*", default=[12, 16, 24],
+                    help="staircase bodies, at the first --eps only")
     ap.add_argument("--subdivisions", type=int, nargs="+", default=[1, 2, 4])
     args = ap.parse_args(argv)
     src = _common.announce_source()
@@ -501,35 +615,32 @@ def main(argv=None):
     rigid = GrainMaterial(QUARTZ.shear_modulus * 1e4, QUARTZ.poisson_ratio, QUARTZ.density)
     radius = 1e-4
     rows = []
-    for alpha in args.alpha:
-        for eps in args.eps:
-            cont = continuum_rows(alpha, eps, cement, radius, args.levels)
-            ref = cont[-1]
-            part = (lattice_rows(alpha, eps, cement, radius, args.omega, rigid)
-                    + staircase_rows(alpha, eps, cement, radius, args.staircase_omega,
-                                     args.subdivisions))
-            for r in cont + part:
-                r["kn_ratio"], r["kt_ratio"] = r["kn"] / ref["kn"], r["kt"] / ref["kt"]
-            rows += cont + part
+    for i, eps in enumerate(args.eps):
+        part = continuum_rows(args.alpha, eps, cement, radius, args.levels)
+        ref = next(r for r in part if r["kind"] == "continuum_limit"
+                   and r["material"] == "cement")
+        part += lattice_rows(args.alpha, eps, cement, radius, args.omega, rigid, offsets(1))
+        if i == 0 and args.offset_omega:
+            part += lattice_rows(args.alpha, eps, cement, radius, args.offset_omega, rigid,
+                                 offsets(args.offsets))
+        if i == 0 and args.staircase_omega:
+            part += staircase_rows(args.alpha, eps, cement, radius, args.staircase_omega,
+                                   args.subdivisions)
+        for r in part:
+            r["kn_ratio"], r["kt_ratio"] = r["kn"] / ref["kn"], r["kt"] / ref["kt"]
+        rows += part
     df = pd.DataFrame(rows)
+    df = df.drop_duplicates(subset=[c for c in ("kind", "material", "eps", "omega",
+                                                "rotations", "offset", "subdivision",
+                                                "elements") if c in df], keep="first")
     attrs = _common.environment_attrs(
-        benchmark=NAME, cement=f"{args.cement} (Table II)",
-        grains="rigid: quartz x 1e4 (lattice), held (continuum, staircase)",
-        ratios="each stiffness over the continuum limit of its (alpha, eps)",
+        benchmark=NAME, cement=f"{args.cement} (Table II)", alpha=args.alpha,
+        grains="rigid: quartz x 1e4, held (lattice); bonded rigid spheres (continuum, "
+               "staircase)",
+        ratios="each stiffness over the cement's continuum limit at its eps",
         **_common.md_source_attrs())
     _common.write_csv(df, _common.result_path(NAME, "csv"), attrs)
-    for (alpha, eps), g in df.groupby(["alpha", "eps"]):
-        lat = g[g.kind == "lattice"]
-        print(f"\na/R {alpha} eps {eps}: lattice / continuum (normal / tangential)")
-        print("| Omega | translations only | rotating | staircase (s -> inf) |")
-        print("|---:|---|---|---|")
-        st = g[g.kind == "staircase_limit"].set_index("omega")
-        for omega, o in lat.groupby("omega"):
-            t, r = o[o.rotations == "no"].iloc[0], o[o.rotations == "yes"].iloc[0]
-            s = (f"{st.loc[omega, 'kn_ratio']:.3f} / {st.loc[omega, 'kt_ratio']:.3f}"
-                 if omega in st.index else "–")
-            print(f"| {omega:g} | {t.kn_ratio:.3f} / {t.kt_ratio:.3f} | {r.kn_ratio:.3f} / "
-                  f"{r.kt_ratio:.3f} | {s} |")
+    print(summary(df))
     print(f"\ncommit {src['git_commit'][:10]}")
 
 
