@@ -105,7 +105,8 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
     :math:`d\,\omega_{ij}\omega_{ij} = \tfrac12 d\,|2\boldsymbol\omega|^2` (the long-wave
     energy of the translations-only cement lattice, :func:`lattice_continuum`), with
     :math:`2\omega_r = -nW/r - V_{,z}`, :math:`2\omega_\theta = U_{,z} - W_{,r}`,
-    :math:`2\omega_z = V_{,r} + (V + nU)/r`. On the axis the displacement is single-valued: :math:`U = 0`
+    :math:`2\omega_z = V_{,r} + (V + nU)/r`. On the axis the displacement is single-valued:
+    :math:`U = 0`
     (n = 0), :math:`V = -U`, :math:`W = 0` (n = 1). The stiffness is
     :math:`k = \mathbf u^T K \mathbf u/\delta^2` (twice the strain energy), with
     :math:`K = c_n \int B^T D B\, r\,dr\,dz`, :math:`c_0 = 2\pi`, :math:`c_1 = \pi`.
@@ -214,7 +215,7 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
     dV = w * r * a * hr                                            # r dr dz
     D = np.zeros((9, 9))
     D[:6, :6] = _isotropic(shear_modulus, p_modulus)
-    D[6:, 6:] = 0.5 * rotation_modulus * np.eye(3)
+    D[6:, 6:] = rotation_modulus * np.eye(3)            # d w:w = d |2 omega|^2 / 2
     results = []
     for mode in (0, 1):
         B = np.zeros(S.shape + (9, 27))
@@ -285,7 +286,7 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
 
 
 def lattice_continuum(cement, rotations):
-    """The continuum the cement lattice tends to at long wavelengths (``md.cement.
+    r"""The continuum the cement lattice tends to at long wavelengths (``md.cement.
     lattice_constants``, ``rule="waves"``): ``(shear_modulus, p_modulus, rotation_modulus)``,
     Pa, for :func:`axisymmetric_stiffness`.
 

@@ -41,6 +41,59 @@ def test_confined_layer_between_rigid_plates_is_the_closed_form(ref):
         assert kt == pytest.approx(G_C * area / t, rel=1e-10)
 
 
+def test_rotation_penalty_in_confined_shear_is_the_closed_form(ref):
+    """With the rotation penalty d the affine simple shear gamma costs (G + d) gamma^2 / 2 per
+    volume (strain and rotation both gamma/2): k_t = (G + d) A/t; compression has no rotation,
+    k_n = M A/t."""
+    a, H = 0.5 * R, 0.1 * R
+    area, t, d = np.pi * a**2, 2 * H, 0.37 * G_C
+    kn, kt = ref.axisymmetric_stiffness(0.5, 0.0, 2, shear_modulus=G_C, p_modulus=M_C,
+                                        rotation_modulus=d, radius=R, half_height=H,
+                                        confined=True)
+    assert kn == pytest.approx(M_C * area / t, rel=1e-10)
+    assert kt == pytest.approx((G_C + d) * area / t, rel=1e-10)
+
+
+def test_lattice_continuum_is_the_bond_sum():
+    """The long-wave energy of the cement lattice, summed bond by bond from
+    md.cement.lattice_constants (9 bonds per cell: central C_n (x.F x)^2 |x|^2 and tangential
+    C |F x|^2, halved), equals lattice_continuum's: for the rotating lattice (tangential term
+    on the strain) the isotropic cement, for the translations-only one the isotropic
+    (lambda', G') plus d w:w, for random displacement gradients."""
+    from md.cement import lattice_constants
+
+    if str(BENCH) not in sys.path:
+        sys.path.insert(0, str(BENCH))
+    ref = importlib.import_module("md_rotations_reference")
+    cw = 1e-5
+    bonds = np.array([(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, -1, 0), (1, 0, 1),
+                      (1, 0, -1), (0, 1, 1), (0, 1, -1)], float) * cw
+    rng = np.random.default_rng(7)
+    for rotations in (True, False):
+        Cn, C, _ = lattice_constants(HARD_CEMENT, cw, rotations=rotations)
+        G, M, d = ref.lattice_continuum(HARD_CEMENT, rotations)
+        lam = M - 2 * G
+        for _ in range(3):
+            F = rng.normal(size=(3, 3)) * 1e-4
+            e, w = 0.5 * (F + F.T), 0.5 * (F - F.T)
+            Ft = e if rotations else F
+            bond = sum(0.5 * Cn * (x @ F @ x) ** 2 / (x @ x) + 0.5 * C * np.sum((Ft @ x) ** 2)
+                       / (x @ x) for x in bonds) / cw**3
+            continuum = 0.5 * lam * np.trace(e) ** 2 + G * np.sum(e * e) + d * np.sum(w * w)
+            assert bond == pytest.approx(continuum, rel=1e-12)
+
+
+def test_lattice_offset_is_checked_and_mirror_symmetric():
+    """Offsets o and 1 - o are mirror images of the symmetric contact: the same stiffness;
+    offsets outside [0, 1) cells, or not three of them, are refused by name."""
+    a = lattice_contact_stiffness(0.5, 8, lattice_offset=(0.2, 0.3, 0.35))
+    b = lattice_contact_stiffness(0.5, 8, lattice_offset=(0.8, 0.7, 0.65))
+    np.testing.assert_allclose(a, b, rtol=1e-8)
+    for bad in ((0.0, 0.0, 1.0), (-0.1, 0.0, 0.0), (0.5, 0.5), "x"):
+        with pytest.raises(ValueError, match="lattice_offset"):
+            lattice_contact_stiffness(0.5, 8, lattice_offset=bad)
+
+
 def test_free_rim_layer_lies_between_its_bounds(ref):
     """With a free rim the bonded cylinder in compression lies between the unconfined column
     (E_c A/t, ends free to slide) and uniaxial strain (M_c A/t); in shear it is below the
