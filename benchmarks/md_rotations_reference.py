@@ -8,29 +8,33 @@ x (tangential, no rotation); the stiffness is the reaction on it. With the grain
 cement's representation matters, so this separates the cement lattice (translations only, or
 rotating, ``rotations`` of ``md.acoustic_system``) from the grain-cement interface's punch.
 
-Three solutions of the same problem:
+Solutions of the same problem:
 
 * **continuum** (:func:`axisymmetric_stiffness`): the exact neck (a cylinder r <= a cut by the
   two spheres) by finite elements on a body-fitted mesh of the (r, z) half-plane: the normal
   load is axisymmetric, the tangential one the first Fourier harmonic in the angle (Wilson 1965,
   AIAA J. 3, 2269; Zienkiewicz & Taylor, *The Finite Element Method*, vol. 1, 5th ed., Sect.
   15.3), biquadratic (9-node) elements on the exact geometry, refined in halving steps and
-  extrapolated (Richardson) with the observed order.
-* **staircase** (:func:`staircase_stiffness`): the lattice's own cell set at resolution Omega
-  taken as a continuum body (each cell a cube of cement, each cell whose centre lies inside a
-  sphere a rigid cube), by 8-node trilinear bricks (``md.voxel.element_matrices``) with every
-  cell sub-divided into s^3 bricks, s = 1, 2, 3, and extrapolated in 1/s. It is the continuum
-  answer the lattice would give if its only error were the cubes' geometry.
+  extrapolated (Richardson) with the observed order. Once for the cement, once for the
+  continuum the translations-only lattice tends to at long wavelengths
+  (:func:`lattice_continuum`: an isotropic solid with another Poisson coupling plus a penalty
+  on rigid rotation), which is that lattice's own limit.
 * **lattice** (``md.cemented_contact.lattice_contact_stiffness`` with the grains 10^4 times
-  stiffer than quartz, held in translation and rotation), translations only and rotating.
+  stiffer than quartz, held in translation and rotation), translations only and rotating, at
+  the default lattice position (cell faces on the contact plane and the axis planes) and, at
+  ``--offset-omega``, at ``--offsets`` positions (``lattice_offset``, the origin and a scrambled
+  Halton sequence), whose mean is what the contacts of a pack, each at its own offset, see.
+* **staircase** (:func:`staircase_stiffness`): the lattice's own cell set at resolution Omega
+  taken as a continuum body (each cemented cell a cube of cement, each cell whose centre lies
+  inside a sphere a rigid cube, as ``md.voxel.pack_phases`` maps a pack), by 8-node trilinear
+  bricks (``md.voxel.element_matrices``) with every cell sub-divided into s^3 bricks,
+  s = 1, 2, 4, extrapolated in 1/s.
 
-So lattice / continuum - 1 is the lattice's whole error, staircase / continuum - 1 the part
-that is geometry, and lattice / staircase - 1 the lattice's own (its springs and its
-grain-cement bonds).
-
-Output: ``results/md_rotations_reference.csv`` (every member).
-Run: ``python benchmarks/md_rotations_reference.py [--omega 8 12 16 24 32] [--eps 0.05]
-[--alpha 0.5] [--cement hard soft] [--staircase-omega 8 12 16]``.
+Output: ``results/md_rotations_reference.csv`` (every member; ratios over the cement's
+continuum limit at the same eps).
+Run: ``python benchmarks/md_rotations_reference.py [--omega 8 10 12 14 16 20 24 32]
+[--eps 0.05 0.1] [--offsets 6] [--offset-omega 8 12 18 27] [--staircase-omega 12 16 24]``
+(about 10 minutes on one core).
 """
 
 from __future__ import annotations
