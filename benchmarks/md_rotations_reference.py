@@ -14,13 +14,16 @@ Solutions of the same problem:
   two spheres) by finite elements on a body-fitted mesh of the (r, z) half-plane: the normal
   load is axisymmetric, the tangential one the first Fourier harmonic in the angle (Wilson 1965,
   AIAA J. 3, 2269; Zienkiewicz & Taylor, *The Finite Element Method*, vol. 1, 5th ed., Sect.
-  15.3), biquadratic (9-node) elements on the exact geometry, refined in halving steps and
+  15.3; the bending load, the upper sphere turned about y through its centre, the first
+  harmonic too, the torsion the axisymmetric one in u_theta), biquadratic (9-node) elements on
+  the exact geometry, refined in halving steps and
   extrapolated (Richardson) with the observed order. Once for the cement, once for the
   continuum the translations-only lattice tends to at long wavelengths
   (:func:`lattice_continuum`: an isotropic solid with another Poisson coupling plus a penalty
   on rigid rotation), which is that lattice's own limit.
-* **lattice** (``md.cemented_contact.lattice_contact_stiffness`` with the grains 10^4 times
-  stiffer than quartz, held in translation and rotation), translations only and rotating, at
+* **lattice** (``md.cemented_contact.lattice_contact_stiffness``'s solve with the grains 10^4
+  times stiffer than quartz, held in translation and rotation), translations only and rotating
+  (this one also turned about y through its centre, bending, and about the axis, torsion), at
   the default lattice position (cell faces on the contact plane and the axis planes) and, at
   ``--offset-omega``, at ``--offsets`` positions (``lattice_offset``, the origin and a scrambled
   Halton sequence), whose mean is what the contacts of a pack, each at its own offset, see.
@@ -48,6 +51,10 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 NAME = "md_rotations_reference"
+# The loads of the continuum and their columns: normal and tangential (N/m), bending about the
+# upper grain's centre and torsion about the axis (N m/rad).
+LOADS = ("normal", "tangential", "bending", "torsion")
+KEYS = ("kn", "kt", "kb", "kr")
 
 # ----------------------------------------------------------------------------- continuum
 # 1-D quadratic Lagrange functions on [-1, 1] (nodes -1, 0, 1) and their derivatives.
@@ -82,7 +89,7 @@ def _isotropic(shear_modulus, p_modulus):
 
 def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p_modulus,
                            rotation_modulus=0.0, radius=1.0, power=1.5, half_height=None,
-                           confined=False):
+                           confined=False, loads=("normal", "tangential")):
     r"""Normal and tangential stiffness of a cement neck between two rigid spheres, by
     finite elements in the (r, z) half-plane.
 
@@ -220,58 +227,50 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
     D = np.zeros((9, 9))
     D[:6, :6] = _isotropic(shear_modulus, p_modulus)
     D[6:, 6:] = rotation_modulus * np.eye(3)            # d w:w = d |2 omega|^2 / 2
+    matrices = {}
     results = []
-    for mode in (0, 1):
-        B = np.zeros(S.shape + (9, 27))
-        iU, iV, iW = np.arange(9) * 3, np.arange(9) * 3 + 1, np.arange(9) * 3 + 2
-        B[..., 0, iU] = Nr
-        B[..., 1, iU] = Nor
-        B[..., 2, iW] = Nz
-        B[..., 3, iU] = Nz
-        B[..., 3, iW] = Nr
-        B[..., 1, iV] = mode * Nor
-        B[..., 4, iV] = Nr - Nor
-        B[..., 4, iU] = -mode * Nor
-        B[..., 5, iV] = Nz
-        B[..., 5, iW] = -mode * Nor
-        B[..., 6, iW] = -mode * Nor                     # 2 omega_r
-        B[..., 6, iV] = -Nz
-        B[..., 7, iU] = Nz                              # 2 omega_theta
-        B[..., 7, iW] = -Nr
-        B[..., 8, iV] = Nr + Nor                        # 2 omega_z
-        B[..., 8, iU] = mode * Nor
-        c = 2.0 * np.pi if mode == 0 else np.pi
-        Ke = c * np.einsum("egkia,ij,egkjb,egk->eab", B, D, B, dV, optimize=True)
-        dof = (3 * conn[:, :, None] + np.arange(3)[None, None, :]).reshape(-1, 27)
-        rows = np.repeat(dof, 27, axis=1).ravel()
-        cols = np.tile(dof, (1, 27)).ravel()
-        ndof = 3 * node.size
-        K = sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(ndof, ndof)).tocsr()
+    for load in loads:
+        mode = 0 if load in ("normal", "torsion") else 1
+        if mode not in matrices:
+            matrices[mode] = _harmonic_matrix(mode, Nv.shape, S.shape, Nr, Nz, Nor, D, dV, conn,
+                                              node.size)
+        K = matrices[mode]
+        ndof = K.shape[0]
         # transformation to the independent unknowns: on the axis V = -U (n = 1)
         axis = node[0, :]
         Tm = sp.identity(ndof, format="lil")
         u = np.zeros(ndof)
         fixed = np.zeros(ndof, bool)
-        if mode == 0:
-            fixed[3 * axis], fixed[3 * axis + 2 * 0 + 1] = True, True     # U = 0, V = 0
+        if load == "normal":
+            fixed[3 * axis] = True                                        # U = 0
             fixed[3 * node.ravel() + 1] = True                            # no torsion
+        elif load == "torsion":
+            fixed[3 * node.ravel()] = fixed[3 * node.ravel() + 2] = True  # torsion only
+            fixed[3 * axis + 1] = True                                    # V = 0
         else:
             fixed[3 * axis + 2] = True                                    # W = 0
             Tm[3 * axis + 1, 3 * axis] = -1.0                             # V = -U
             Tm[3 * axis + 1, 3 * axis + 1] = 0.0
             fixed[3 * axis + 1] = True       # V is not an unknown on the axis (follows U)
         bottom, top = node[:, 0], node[:, -1]
+        rt = a * sn                                  # the radius of the nodes along s
         for nd, move in ((bottom, 0.0), (top, 1.0)):
             fixed[3 * nd], fixed[3 * nd + 1], fixed[3 * nd + 2] = True, True, True
-            if mode == 0:
+            if load == "normal":
                 u[3 * nd + 2] = move
-            else:
+            elif load == "tangential":
                 u[3 * nd], u[3 * nd + 1] = move, -move
+            elif load == "torsion":                  # turn by 1 rad about z: u_theta = r
+                u[3 * nd + 1] = move * rt
+            else:                                    # turn by 1 rad about y through the
+                zc = h(rt) - R * (1.0 + eps)         # upper sphere's centre: u_x = z - z_c,
+                u[3 * nd], u[3 * nd + 1] = move * zc, -move * zc      # u_z = -x
+                u[3 * nd + 2] = -move * rt
         if confined:
             rim = node[-1, 1:-1]
             zr = tn[1:-1] * h(np.full(tn.size - 2, a))
             fixed[3 * rim] = True          # u_r held
-            if mode == 1:                  # the affine simple shear u_x = z / (2 h) + 1/2
+            if load == "tangential":       # the affine simple shear u_x = z / (2 h) + 1/2
                 fixed[3 * rim + 1] = fixed[3 * rim + 2] = True
                 ux = 0.5 + zr / (2.0 * h(np.array([a]))[0])
                 u[3 * rim], u[3 * rim + 1] = ux, -ux
@@ -286,7 +285,40 @@ def axisymmetric_stiffness(radius_ratio, thickness_ratio, n, *, shear_modulus, p
         u0[free] = spla.spsolve(Kt[free][:, free].tocsc(), rhs)
         full = Tm @ u0
         results.append(float(full @ (K @ full)))
-    return results[0], results[1]
+    return tuple(results)
+
+
+def _harmonic_matrix(mode, shape_n, shape_g, Nr, Nz, Nor, D, dV, conn, n_nodes):
+    """Stiffness matrix of the Fourier harmonic ``mode`` (0 or 1) of
+    :func:`axisymmetric_stiffness`: unknowns (U, V, W) per node, strain and rotation rows
+    (e_rr, e_tt, e_zz, g_rz, g_rt, g_tz, 2 w_r, 2 w_t, 2 w_z)."""
+    import scipy.sparse as sp
+
+    B = np.zeros(shape_g + (9, 27))
+    iU, iV, iW = np.arange(9) * 3, np.arange(9) * 3 + 1, np.arange(9) * 3 + 2
+    B[..., 0, iU] = Nr
+    B[..., 1, iU] = Nor
+    B[..., 2, iW] = Nz
+    B[..., 3, iU] = Nz
+    B[..., 3, iW] = Nr
+    B[..., 1, iV] = mode * Nor
+    B[..., 4, iV] = Nr - Nor
+    B[..., 4, iU] = -mode * Nor
+    B[..., 5, iV] = Nz
+    B[..., 5, iW] = -mode * Nor
+    B[..., 6, iW] = -mode * Nor                     # 2 omega_r
+    B[..., 6, iV] = -Nz
+    B[..., 7, iU] = Nz                              # 2 omega_theta
+    B[..., 7, iW] = -Nr
+    B[..., 8, iV] = Nr + Nor                        # 2 omega_z
+    B[..., 8, iU] = mode * Nor
+    c = 2.0 * np.pi if mode == 0 else np.pi
+    Ke = c * np.einsum("egkia,ij,egkjb,egk->eab", B, D, B, dV, optimize=True)
+    dof = (3 * conn[:, :, None] + np.arange(3)[None, None, :]).reshape(-1, 27)
+    rows = np.repeat(dof, 27, axis=1).ravel()
+    cols = np.tile(dof, (1, 27)).ravel()
+    ndof = 3 * n_nodes
+    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(ndof, ndof)).tocsr()
 
 
 def lattice_continuum(cement, rotations):
@@ -476,13 +508,14 @@ def continuum_rows(alpha, eps, cement, radius, levels):
         seq = []
         for n in levels:
             t0 = time.perf_counter()
-            kn, kt = axisymmetric_stiffness(alpha, eps, n, shear_modulus=G, p_modulus=M,
-                                            rotation_modulus=d, radius=radius)
+            k = axisymmetric_stiffness(alpha, eps, n, shear_modulus=G, p_modulus=M,
+                                       rotation_modulus=d, radius=radius, loads=LOADS)
             seq.append(dict(kind="continuum", material=material, alpha=alpha, eps=eps,
-                            elements=n, kn=kn, kt=kt, seconds=time.perf_counter() - t0))
+                            elements=n, **dict(zip(KEYS, k)),
+                            seconds=time.perf_counter() - t0))
         limit = dict(kind="continuum_limit", material=material, alpha=alpha, eps=eps,
                      elements=np.inf)
-        for key in ("kn", "kt"):
+        for key in KEYS:
             p, lim, err = richardson([1.0 / r["elements"] for r in seq], [r[key] for r in seq])
             limit.update({key: lim, f"{key}_order": p, f"{key}_error": err})
         print(f"continuum ({material}) a/R {alpha} eps {eps}: "
@@ -506,24 +539,25 @@ def offsets(count, seed=0):
 
 def lattice_rows(alpha, eps, cement, radius, omegas, rigid, shifts):
     """Both lattices at every Omega and every lattice offset of ``shifts``."""
-    from md.cemented_contact import lattice_contact_stiffness
+    from md.cemented_contact import _grain_reactions, contact_system
 
     rows = []
     for omega in omegas:
         for rotations in (False, True):
             for o, off in enumerate(shifts):
                 t0 = time.perf_counter()
-                k = lattice_contact_stiffness(alpha, omega, radius=radius, thickness_ratio=eps,
-                                              material=rigid, cement=cement,
-                                              rotations=rotations, lattice_offset=tuple(off))
+                system = contact_system(alpha, omega, radius=radius, thickness_ratio=eps,
+                                        material=rigid, cement=cement, rotations=rotations,
+                                        lattice_offset=tuple(off))
+                # translations z, x; with rotations also the turns about y and z
+                k = _grain_reactions(system, (2, 0, 4, 5) if rotations else (2, 0))
                 rows.append(dict(kind="lattice", alpha=alpha, eps=eps, omega=omega,
                                  rotations="yes" if rotations else "no", offset=o,
                                  offset_x=off[0], offset_y=off[1], offset_z=off[2],
-                                 kn=k.normal, kt=k.tangential,
-                                 seconds=time.perf_counter() - t0))
+                                 **dict(zip(KEYS, k)), seconds=time.perf_counter() - t0))
                 print(f"lattice a/R {alpha} eps {eps} Omega {omega:3g} rot {rotations:d} offset "
-                      f"{o}: kn {k.normal:.6e} kt {k.tangential:.6e} "
-                      f"({rows[-1]['seconds']:.1f} s)", flush=True)
+                      f"{o}: " + " ".join(f"{key} {v:.6e}" for key, v in zip(KEYS, k))
+                      + f" ({rows[-1]['seconds']:.1f} s)", flush=True)
     return rows
 
 
@@ -557,6 +591,13 @@ def _fmt(r, key):
     return f"{r[key]:.3f}"
 
 
+def _mean_se(q, keys):
+    """'mean +- standard error' of the ratios ``keys`` over the rows ``q``, ' / '-joined."""
+    cols = [f"{k}_ratio" for k in keys]
+    m, se = q[cols].mean(), q[cols].std(ddof=1) / np.sqrt(len(q))
+    return " / ".join(f"{m[c]:.3f} +- {se[c]:.3f}" for c in cols)
+
+
 def summary(df):
     """Markdown tables of the run: every stiffness over the cement's continuum limit."""
     lines = []
@@ -567,7 +608,8 @@ def summary(df):
                   f"/ {ref.kt:.6e} +- {ref.kt_error:.0e} N/m; the translations-only lattice's "
                   f"limit {tl.kn / ref.kn:.4f} / {tl.kt / ref.kt:.4f} of it",
                   "", "| Omega | translations only | rotating | rotating / translations | "
-                  "staircase (s -> inf) |", "|---:|---|---|---|---|"]
+                  "rotating: bending / torsion | staircase (s -> inf) |",
+                  "|---:|---|---|---|---|---|"]
         lat = g[(g.kind == "lattice") & (g.offset == 0)]
         st = g[g.kind == "staircase_limit"].set_index("omega")
         for omega, o in lat.groupby("omega"):
@@ -576,22 +618,21 @@ def summary(df):
                    if omega in st.index else "–")
             lines.append(f"| {omega:g} | {t.kn_ratio:.3f} / {t.kt_ratio:.3f} | "
                          f"{r.kn_ratio:.3f} / {r.kt_ratio:.3f} | {r.kn / t.kn:.4f} / "
-                         f"{r.kt / t.kt:.4f} | {stc} |")
+                         f"{r.kt / t.kt:.4f} | {r.kb_ratio:.3f} / {r.kr_ratio:.3f} | {stc} |")
         many = g[g.kind == "lattice"].groupby(["omega", "rotations"])
         if many.offset.nunique().max() > 1:
             lines += ["", "mean over lattice offsets (+- standard error of the mean):", "",
-                      "| Omega | offsets | translations only | rotating |", "|---:|---:|---|---|"]
+                      "| Omega | offsets | translations only | rotating | rotating: bending / "
+                      "torsion |", "|---:|---:|---|---|---|"]
             for omega, o in g[g.kind == "lattice"].groupby("omega"):
                 if o.offset.nunique() < 2:
                     continue
                 cell = {}
                 for rot, q in o.groupby("rotations"):
-                    se = q[["kn_ratio", "kt_ratio"]].std(ddof=1) / np.sqrt(len(q))
-                    m = q[["kn_ratio", "kt_ratio"]].mean()
-                    cell[rot] = (f"{m.kn_ratio:.3f} +- {se.kn_ratio:.3f} / {m.kt_ratio:.3f} +- "
-                                 f"{se.kt_ratio:.3f}")
+                    cell[rot] = _mean_se(q, ("kn", "kt"))
+                cell["turns"] = _mean_se(o[o.rotations == "yes"], ("kb", "kr"))
                 lines.append(f"| {omega:g} | {o.offset.nunique()} | {cell['no']} | "
-                             f"{cell['yes']} |")
+                             f"{cell['yes']} | {cell['turns']} |")
     return "\n".join(lines)
 
 
@@ -632,7 +673,9 @@ def main(argv=None):
             part += staircase_rows(args.alpha, eps, cement, radius, args.staircase_omega,
                                    args.subdivisions)
         for r in part:
-            r["kn_ratio"], r["kt_ratio"] = r["kn"] / ref["kn"], r["kt"] / ref["kt"]
+            for key in KEYS:
+                if key in r:
+                    r[f"{key}_ratio"] = r[key] / ref[key]
         rows += part
     df = pd.DataFrame(rows)
     df = df.drop_duplicates(subset=[c for c in ("kind", "material", "eps", "omega",

@@ -205,12 +205,20 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
         For inputs out of range, or when no cell (or no connected path of cells) lies in the
         cement at this resolution.
     """
-    from .static import _load_path, _lu_preconditioner, _pcg
-
     system = contact_system(radius_ratio, resolution, radius=radius,
                             thickness_ratio=thickness_ratio, material=material, cement=cement,
                             interface=interface, rotations=rotations,
                             lattice_offset=lattice_offset)
+    return ContactStiffness(*_grain_reactions(system, (2, 0)))
+
+
+def _grain_reactions(system, components):
+    """Reaction on grain 1 of :func:`contact_system`'s ``system`` along each of its degrees of
+    freedom ``components`` (0-2 translations; 3-5 rotations about its centre, with rotations)
+    when that one is moved by 1 (m or rad), grain 0 and grain 1's other degrees of freedom
+    held and the cement relaxed: the diagonal of the bond's stiffness (N/m, N m/rad)."""
+    from .static import _load_path, _lu_preconditioner, _pcg
+
     n, dof = system.n_particles, system.dof
     flag = np.zeros(n, np.int8)
     flag[0] = 1
@@ -225,13 +233,13 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
     # them): the factor of md.static pins those mechanisms, which carry no load.
     apply_, precondition = _lu_preconditioner(system, Kff, free, free_idx)
     out = []
-    for ax in (2, 0):
+    for ax in components:
         u = np.zeros(n * dof)
         u[dof + ax] = 1.0
         u[free_idx], _ = _pcg(apply_, precondition, -(K[free_idx][:, [dof + ax]].toarray()
                                                         .ravel()), 1e-12, 200)
         out.append(float((K @ u)[dof + ax]))
-    return ContactStiffness(*out)
+    return out
 
 
 def theory_contact_stiffness(radius_ratio, *, radius=1e-4, thickness_ratio=0.0,
