@@ -54,18 +54,32 @@ def _check_contact(radius_ratio, radius, thickness_ratio):
     return alpha, eps, R
 
 
-def _cemented_cells(alpha, resolution, eps):
+def _check_offset(lattice_offset):
+    """``lattice_offset`` as a float array of 3, or a ValueError naming the valid range."""
+    try:
+        off = np.asarray(lattice_offset, dtype=float)
+    except (TypeError, ValueError):
+        off = np.full(1, np.nan)
+    if off.shape != (3,) or not np.all((off >= 0.0) & (off < 1.0)):
+        raise ValueError(f"lattice_offset must be three shifts in [0, 1) cells (x, y, z); got "
+                         f"{lattice_offset!r}")
+    return off
+
+
+def _cemented_cells(alpha, resolution, eps, offset=(0.0, 0.0, 0.0)):
     """Centres (in units of R, contact plane at z = 0, axis x = y = 0) of the cells of a lattice
-    of width 1/Omega (cell faces on the axis planes) that lie in the cement body, their
-    lattice indices and the lattice shape."""
+    of width 1/Omega (cell faces on the axis planes, shifted by ``offset`` cells along x, y and
+    z) that lie in the cement body, their lattice indices and the lattice shape."""
     cw = 1.0 / resolution
+    off = np.asarray(offset, dtype=float)
     half_xy = int(np.ceil(alpha / cw)) + 2
     h_max = eps + 1.0 - np.sqrt(1.0 - alpha**2)           # half the gap at the rim
-    half_z = int(np.ceil(h_max / cw)) + 1
+    half_z = int(np.ceil(h_max / cw)) + 1 + int(np.any(off != 0.0))
     shape = (2 * half_xy, 2 * half_xy, 2 * half_z)
     k, j, i = np.meshgrid(*(np.arange(s) for s in shape[::-1]), indexing="ij")
-    centre = np.stack([(i.ravel() - half_xy + 0.5) * cw, (j.ravel() - half_xy + 0.5) * cw,
-                       (k.ravel() - half_z + 0.5) * cw], axis=-1)
+    centre = np.stack([(i.ravel() - half_xy + 0.5 + off[0]) * cw,
+                       (j.ravel() - half_xy + 0.5 + off[1]) * cw,
+                       (k.ravel() - half_z + 0.5 + off[2]) * cw], axis=-1)
     rho2 = centre[:, 0] ** 2 + centre[:, 1] ** 2
     outside = np.all([np.sum((centre - [0.0, 0.0, s * (1.0 + eps)]) ** 2, axis=1) > 1.0
                       for s in (-1, 1)], axis=0)
@@ -97,13 +111,14 @@ def _grain_cement(centre, cw, eps):
 
 def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                    material: GrainMaterial = QUARTZ, cement: CementMaterial = HARD_CEMENT,
-                   interface="facet", rotations=False):
+                   interface="facet", rotations=False, lattice_offset=(0.0, 0.0, 0.0)):
     r"""The linearised system of one cemented contact (module docstring): two grains (particles
     0 and 1, no Hertz contact between them) and the cement particles, on a lattice of width
     :math:`R/\Omega` whose cell faces lie on the contact plane and on two planes through the
-    axis. Parameters as :func:`lattice_contact_stiffness`; returns an
-    :class:`md.AcousticSystem` (no dashpots; with ``rotations`` the six degrees of freedom of
-    :func:`md.acoustic_system`'s ``rotations=True``: bonds at their contact points, the
+    axis (by default; ``lattice_offset`` shifts them). Parameters as
+    :func:`lattice_contact_stiffness`; returns an :class:`md.AcousticSystem` (no dashpots;
+    with ``rotations`` the six degrees of freedom of :func:`md.acoustic_system`'s
+    ``rotations=True``: bonds at their contact points, the
     rotating lattice's constants)."""
     from .acoustic import (_LATTICE_LENGTH2, AcousticSystem, _lattice_springs, _lattice_table,
                            grain_cement_arms)
@@ -113,7 +128,8 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     alpha, eps, R = _check_contact(radius_ratio, radius, thickness_ratio)
     if not resolution >= 2.0:
         raise ValueError(f"resolution must be >= 2 cells per radius; got {resolution}")
-    centre, flat, shape = _cemented_cells(alpha, float(resolution), eps)
+    off = _check_offset(lattice_offset)
+    centre, flat, shape = _cemented_cells(alpha, float(resolution), eps, off)
     if centre.shape[0] == 0:
         raise ValueError(f"no cell of width R/{resolution:g} lies in the cement (a/R = {alpha:g}, "
                          f"thickness {eps:g}): raise the resolution")
@@ -149,7 +165,8 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
 def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                               material: GrainMaterial = QUARTZ,
                               cement: CementMaterial = HARD_CEMENT,
-                              interface="facet", rotations=False) -> ContactStiffness:
+                              interface="facet", rotations=False,
+                              lattice_offset=(0.0, 0.0, 0.0)) -> ContactStiffness:
     r"""Static normal and tangential stiffness of one cemented contact on the lattice.
 
     Parameters
@@ -171,6 +188,11 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
     rotations : bool
         Whether the cement particles rotate (:func:`md.acoustic_system`'s ``rotations``); the
         two grains are held in translation and rotation either way, the cement relaxes.
+    lattice_offset : sequence of 3 floats
+        Shift of the lattice against the contact, in cells along x, y and z, each in [0, 1);
+        default none (cell faces on the contact plane and on the planes x = 0 and y = 0). In
+        a pack every contact sits at its own offset from the lattice, so a mean over offsets
+        is what a pack's contacts see on average (``benchmarks/md_rotations_reference.py``).
 
     Returns
     -------
@@ -183,11 +205,20 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
         For inputs out of range, or when no cell (or no connected path of cells) lies in the
         cement at this resolution.
     """
-    from .static import _load_path, _lu_preconditioner, _pcg
-
     system = contact_system(radius_ratio, resolution, radius=radius,
                             thickness_ratio=thickness_ratio, material=material, cement=cement,
-                            interface=interface, rotations=rotations)
+                            interface=interface, rotations=rotations,
+                            lattice_offset=lattice_offset)
+    return ContactStiffness(*_grain_reactions(system, (2, 0)))
+
+
+def _grain_reactions(system, components):
+    """Reaction on grain 1 of :func:`contact_system`'s ``system`` along each of its degrees of
+    freedom ``components`` (0-2 translations; 3-5 rotations about its centre, with rotations)
+    when that one is moved by 1 (m or rad), grain 0 and grain 1's other degrees of freedom
+    held and the cement relaxed: the diagonal of the bond's stiffness (N/m, N m/rad)."""
+    from .static import _load_path, _lu_preconditioner, _pcg
+
     n, dof = system.n_particles, system.dof
     flag = np.zeros(n, np.int8)
     flag[0] = 1
@@ -202,13 +233,13 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
     # them): the factor of md.static pins those mechanisms, which carry no load.
     apply_, precondition = _lu_preconditioner(system, Kff, free, free_idx)
     out = []
-    for ax in (2, 0):
+    for ax in components:
         u = np.zeros(n * dof)
         u[dof + ax] = 1.0
         u[free_idx], _ = _pcg(apply_, precondition, -(K[free_idx][:, [dof + ax]].toarray()
                                                         .ravel()), 1e-12, 200)
         out.append(float((K @ u)[dof + ax]))
-    return ContactStiffness(*out)
+    return out
 
 
 def theory_contact_stiffness(radius_ratio, *, radius=1e-4, thickness_ratio=0.0,
