@@ -30,7 +30,7 @@ where the three have no credible order). The rates are printed and written with 
 Output: ``results/md_voxel_coverage.csv`` (one row per member, written after each member, so an
 interrupted run keeps what it measured) and ``results/md_voxel_coverage_summary.csv`` (the rates
 per quantity, per mix and over all).
-Run: ``python benchmarks/md_voxel_coverage.py`` (about 100 s of one core per member at the
+Run: ``python benchmarks/md_voxel_coverage.py`` (1-3 min per member on one shared core at the
 defaults; ``--budget-s`` stops starting members after that many seconds).
 """
 
