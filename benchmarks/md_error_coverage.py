@@ -72,10 +72,16 @@ def synthetic(draws=2000, seed=0):
     return pd.DataFrame(rows)
 
 
-def _scene(name, depths, schemes, size, seed, resolution, check, check2, workdir):
+def _scene(name, depths, schemes, size, seed, resolution, check, check2, workdir,
+           materials=None):
+    """The scene ``name`` with only its ``[models.md]`` table, narrowed to one pack (``seed``)
+    at ``resolution`` with the checks ``check``, ``check2`` (None: the scene's defaults; 0:
+    none); ``materials`` (a dict, e.g. ``{"cement": "hard_cement"}``) replaces entries of its
+    ``[materials]`` table."""
     from rockcem.scene import read_scene_toml, scene_from_dict
 
     data = copy.deepcopy(read_scene_toml(name)[0])
+    data["materials"].update(materials or {})
     table = data["models"]["md"]
     table.update({"depths": list(depths), "schemes": list(schemes), "size": list(size),
                   "seed": int(seed), "samples": 1, "resolution": float(resolution),
