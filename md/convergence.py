@@ -149,7 +149,8 @@ def resolution_error(omegas, values, *, rule="gci"):
     asymptotic = np.zeros(v.shape[1:], dtype=bool)
     if o.size == 2:
         return (SAFETY_FALLBACK if gci else 1.0) * steps[0], asymptotic
-    error = SAFETY_FALLBACK * np.maximum(*steps) if gci else np.array(steps[0], dtype=float)
+    # an array even for one value per resolution (0-d), so that error[k] can be set
+    error = np.array(SAFETY_FALLBACK * np.maximum(*steps) if gci else steps[0], dtype=float)
     for k in np.ndindex(v.shape[1:]):
         column = v[(slice(None), *k)]
         if np.all(column == column[0]):

@@ -148,3 +148,17 @@ def test_gci_covers_noisy_first_order_sequences():
 def test_resolution_error_refuses_an_unknown_rule():
     with pytest.raises(ValueError, match="rule"):
         resolution_error([6.0, 4.0], np.ones(2), rule="roache")
+
+
+def test_one_value_per_resolution_has_the_closed_form_error():
+    """A plain list of one value per resolution (no trailing axis): an exact first-order
+    sequence X = 1 + 0.1/Omega has observed order 1, so the grid convergence index is
+    1.25 |X(6) - X(4)| / (6/4 - 1); a constant sequence has error 0. (A scalar error used to
+    raise TypeError when it was set.)"""
+    from md.convergence import resolution_error
+    omegas = [6.0, 4.0, 2.5]
+    error, asymptotic = resolution_error(omegas, [1 + 0.1 / o for o in omegas])
+    assert float(error) == pytest.approx(1.25 * (0.1 / 4 - 0.1 / 6) / 0.5, rel=1e-9)
+    assert bool(asymptotic)
+    error, asymptotic = resolution_error(omegas, [2.0, 2.0, 2.0])
+    assert float(error) == 0.0 and bool(asymptotic)
