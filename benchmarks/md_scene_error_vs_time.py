@@ -1,46 +1,71 @@
-"""MD moduli of the burial scene against run time: the lattice resolution Omega and the pack size.
+"""The MD scene's velocities against run time: each numerical knob of the shipped MD example.
 
-The MD backend of a sandstone scene (``md.along_depth.carry_down``, docs/user_guide/md_along_depth.md)
-settles one pack, compacts it down the depths' largest effective stress, cements it to each
-depth's cement fraction and solves for the static P and shear moduli. Its two knobs that cost
-run time are the cement lattice resolution Omega = R/c_w and the pack size; this report measures
-both at the burial states of the shipped sandstone example (``carcione2022_sandstone``, run
-through ``rockcem.scene.run_scene``: effective pressure and cement fraction at ``--depths``,
-default 2000, 3000 and 4000 m; the path is a linear basin, so the present effective stress is
-the largest). Grain and cement are the scene's (``[materials]``, mapped to the MD engine as the
-scene runner maps them), the radii and every other MD setting the defaults of
-``rockcem.scene.SCHEMA["models.md"]`` (coating cement, facet interface, static moduli, slab of
-one diameter).
+What is measured is the MD member of the shipped example ``carcione2022_sandstone_md`` as
+``rockcem run`` makes it: :func:`rockcem.scene.run_scene` on that scene (burial, the MD pack
+compacted down the path and reconstructed to burial's intergranular volume, the coating grown
+with burial and laid as a film while thin, the five constants of the transversely isotropic
+sample, voxel finite elements where burial fills the pores, anisotropic Gassmann with water),
+with the scene's defaults except what a study changes, at three representative depths
+(``DEPTHS``): 2000 m (a thin film of coating), 3500 m (past a quarter of the pores: whole cells
+of the lattice, the first such depth of the example, so its cement is grown from nothing as in
+the example) and 5000 m (burial's pores full: voxel finite elements). Every run has one pack
+(``samples = 1``). The quantities are the saturated vertical velocities ``vp``, ``vs`` (km/s:
+what the scene reports) and the dry constants C11, C13, C33, C44, C66 (GPa) of
+:func:`md.along_depth.carry_down`, read by wrapping the backend's
+``rockcem._md_backend._carry_down_task`` (the wrapper returns its Dataset unchanged).
 
-(a) Omega in ``--omega`` (default 2 3 4 5 6) on one pack (``--omega-size``, default the scene's
-    4 x 4 x 12 diameters, seed ``--omega-seed``). The pack is settled and compacted once and
-    reused across Omega on purpose (each Omega cements and solves the same compacted stages),
-    so the Omega error is that of the lattice alone; the pack's time is counted in every
-    Omega's total. Reference: the three-point Richardson limit of the three finest Omega
-    (``md_omega_convergence.richardson``) where the sequence is asymptotic (its last three
-    changes shrink with one sign, order 0.5-3), else the finest Omega (flagged per depth and
-    modulus in the output; the errors are then lower bounds).
-(b) Pack size in ``--sizes`` (default 3x3x8 4x4x12 5x5x16 6x6x20) at Omega ``--size-omega``
-    (default 3, the scene's), ``--seeds`` settling seeds each (default 0 1 2), each pack in its
-    own fresh work folder (the largest size only the first ``--seeds-largest``, default 2, to
-    fit the time budget). The sample-size error of one run is the standard deviation across
-    seeds; the reference is the largest size's seed mean, and the error of one run of a size
-    is ``sqrt(bias^2 + std^2)`` (bias: its seed mean against the reference).
+Studies (each knob alone, the others at the scene's defaults):
 
-Wall times: ``seconds_pack`` (settling and compaction down the depths, one pack: carry_down's
-total less its members), ``seconds_members`` (cement + linearisation + both static solves,
-summed over the depths; carry_down's ``wall_time`` per member is in the rows) and their sum
-``seconds_total``, the cost of one configuration. A warm-up run (small pack, coarse lattice,
-not recorded) compiles the numba kernels first. The load average is recorded beside every run:
-other work on the machine stretches the wall times.
+omega
+    The lattice resolution Omega, one resolution per run (``resolution_check = 0``), on the
+    scene's pack (size 4 x 4 x 12, seed 0). The voxel members run at
+    :data:`md.along_depth.VOXEL_RESOLUTION_FACTOR` of it (the voxel Omega is a column). The
+    pack's stage files are reused across Omega (the differences are the lattice's alone).
+    Reference: the finest Omega (the error is a lower bound where the sequence has not
+    converged: see its changes).
+default
+    The scene's own resolutions (Omega 6 with checks at 4 and 2.67): its stated resolution
+    errors of vp and vs (the grid convergence index, :mod:`md.convergence`) against the
+    observed difference of the Omega 6 value from the finest Omega of the omega study; and its
+    cost. The Omega 6 values must equal the omega study's single-resolution run (checked).
+rtol
+    The static solvers' relative tolerance, scaled from the defaults (lattice
+    :func:`md.static.static_stiffness` 1e-10, voxel :func:`md.voxel.sample_stiffness` 1e-8)
+    by ``RTOL_SCALES``; passed by wrapping those two functions in their modules (they are
+    looked up there at each call). Reference: the smallest scale.
+strain_step
+    The compaction increment of :func:`md.along_depth.carry_down` (default 5e-4, not a scene
+    key: passed through the wrapper of ``_carry_down_task``); each value its own fresh pack
+    (settled again: the settling is the same, the chain of compactions is not). Reference:
+    the smallest step.
+size
+    Pack size (``models.md.size``) with ``--seeds`` settling seeds each (``models.md.seed``),
+    each pack in its own fresh work folder, at the scene's Omega without checks. The
+    sample-size error of one run is the seed standard deviation; the reference is the largest
+    size's seed mean; the error of one run is ``sqrt(bias^2 + std^2)``.
 
-Output: ``results/md_scene_error_vs_time[_<tag>].{csv,nc,png}`` (one row per run: study, knob,
-depth, seed) and ``results/md_scene_error_vs_time_summary[_<tag>].csv`` (per study, knob and
-depth: moduli, errors against the reference, seed spread, wall time).
-Run: ``python benchmarks/md_scene_error_vs_time.py [--quick]`` (``--quick``: Omega 2 3 4,
-sizes 3x3x8 4x4x12, seeds 0 1; a few minutes). ``--example [3:2 4:3]`` instead times the
-shipped MD example (``carcione2022_sandstone_md``) at those resolution:check pairs
-(``results/md_scene_error_vs_time_example.csv``): the cost the defaults must fit.
+Wall times (one process, numba compiled by a warm-up run first): ``seconds_members`` (the
+members' own ``wall_time``, summed over the depths), ``seconds_pack`` (settling, compaction
+and reconstruction of the run's pack: measured in the run that made its stage files, as
+carry_down's time less its members), ``seconds_total`` = their sum, the cost of one
+configuration, and ``seconds_scene`` (the whole ``run_scene`` call of the run, stage files
+reused where they exist). The load average is recorded per run.
+
+Output: ``results/md_scene_error_vs_time[_<tag>].{csv,nc,png}`` (one row per run and depth)
+and ``results/md_scene_error_vs_time_summary[_<tag>].csv`` (per study, knob and depth: values,
+errors against the reference, seed spread, times; the ``default`` rows hold the error-bar
+check). Every output records the git commit (``git_commit``, ``git_tree``); the script
+refuses to run with uncommitted changes under md/, rockcem/, burial/ or datasets/ unless
+``--allow-dirty`` (then the tree is recorded and stamped as dirty), as
+``benchmarks/md_scene_example.py`` does.
+
+Run: ``python benchmarks/md_scene_error_vs_time.py [--quick]``. ``--quick`` (about 2 min):
+a 3 x 3 x 8 pack, Omega 2, 2.67 and 4 with the error-bar check at 4/2.67/2, two tolerances,
+two strain steps and two seeds; it exercises every study, for testing the script, not for
+its numbers (written with the tag ``quick``). The per-run CSV is rewritten after every run
+(``partial = 1`` in its metadata until the end), so an interrupted run can be summarised with
+``--replot``. ``--replot`` redoes the summary and figure from the
+per-run CSV.
 """
 
 from __future__ import annotations
@@ -48,270 +73,439 @@ from __future__ import annotations
 import _common  # noqa: I001  (first: pins threads before numpy is imported)
 
 import argparse  # noqa: E402
+import contextlib  # noqa: E402
+import functools  # noqa: E402
 import os  # noqa: E402
 import shutil  # noqa: E402
+import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
+import warnings  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 NAME = "md_scene_error_vs_time"
-MODULI = {"p_modulus": "P modulus M", "shear_modulus": "shear modulus G"}
-UNITS = {"depth": "m", "stress_MPa": "MPa", "stress_reached_MPa": "MPa", "cement_fraction": "1",
-         "porosity_pack": "1", "saturation": "1", "p_modulus": "GPa", "shear_modulus": "GPa",
-         "density": "g cm-3", "vp_dry": "km s-1", "vs_dry": "km s-1", "omega": "1",
-         "seconds_member": "s", "seconds_pack": "s", "seconds_members": "s",
-         "seconds_total": "s", "load_average": "1"}
+SCENE = "carcione2022_sandstone_md"
+#: Film of coating, whole cells of coating (the example's first), pores full (voxels), m.
+DEPTHS = (2000.0, 3500.0, 5000.0)
+#: The saturated vertical velocities (km/s) and the dry constants (GPa) compared.
+VELOCITIES = ("vp", "vs")
+CONSTANTS = ("c11", "c13", "c33", "c44", "c66")
+QUANTITIES = VELOCITIES + CONSTANTS
+#: carry_down's names of the constants (C33, C44 are its P and shear moduli).
+_CD_NAMES = {"c11": "c11", "c13": "c13", "c33": "p_modulus", "c44": "shear_modulus",
+             "c66": "c66"}
+#: Default relative tolerances of the static solves (md.static.static_stiffness,
+#: md.voxel.voxel_stiffness), scaled together by the rtol study.
+RTOL_DEFAULT = {"lattice": 1e-10, "voxel": 1e-8}
+UNITS = {"depth": "m", "vp": "km s-1", "vs": "km s-1", "vp_error_resolution": "km s-1",
+         "vs_error_resolution": "km s-1", "c11": "GPa", "c13": "GPa", "c33": "GPa",
+         "c44": "GPa", "c66": "GPa", "omega": "1", "omega_voxel": "1", "porosity_md": "1",
+         "saturation": "1", "seconds_member": "s", "seconds_members": "s",
+         "seconds_pack": "s", "seconds_total": "s", "seconds_scene": "s", "load_average": "1"}
+#: Lowest relative error the figure shows.
+FLOOR = 1e-9
+STUDIES = ("omega", "default", "rtol", "strain_step", "size")
+MARKERS = {"omega": "o-", "rtol": "^-", "strain_step": "D-", "size": "s--"}
+
+
+# ----------------------------------------------------------------------------- the runs
+class _Capture:
+    """Wraps ``rockcem._md_backend._carry_down_task``: records each carry_down Dataset and its
+    wall time, and adds ``extra`` keyword arguments (a knob carry_down takes that the scene
+    does not)."""
+
+    def __init__(self):
+        import rockcem._md_backend as backend
+
+        self.backend, self.original = backend, backend._carry_down_task
+        self.extra, self.calls = {}, []
+
+    def __call__(self, max_stress, cement_fraction, options):
+        t0 = time.perf_counter()
+        ds = self.original(max_stress, cement_fraction, {**options, **self.extra})
+        self.calls.append((time.perf_counter() - t0, ds))
+        return ds
+
+    def __enter__(self):
+        self.backend._carry_down_task = self
+        return self
+
+    def __exit__(self, *exc):
+        self.backend._carry_down_task = self.original
+
+
+@contextlib.contextmanager
+def solver_rtol(scale):
+    """The static solves of the MD members at ``scale`` times their default tolerances
+    (:data:`RTOL_DEFAULT`): ``md.static.static_stiffness`` and ``md.voxel.sample_stiffness``
+    wrapped in their modules, where ``md.along_depth`` looks them up at each call."""
+    import md.static
+    import md.voxel
+
+    saved = md.static.static_stiffness, md.voxel.sample_stiffness
+    if scale != 1.0:
+        md.static.static_stiffness = functools.partial(
+            saved[0], rtol=RTOL_DEFAULT["lattice"] * scale)
+        md.voxel.sample_stiffness = functools.partial(
+            saved[1], rtol=RTOL_DEFAULT["voxel"] * scale)
+    try:
+        yield
+    finally:
+        md.static.static_stiffness, md.voxel.sample_stiffness = saved
 
 
 def _size_label(size):
     return "x".join(f"{s:g}" for s in size)
 
 
-def _parse_size(text):
-    parts = [float(p) for p in text.lower().split("x")]
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"a size is three numbers joined by x; got {text!r}")
-    return tuple(parts)
-
-
-def burial_states(scene_name, depths):
-    """Effective stress (MPa), cement fraction and porosity of the scene at the nearest profile
-    depths, and the scene; the MD settings of the scene runner (schema defaults, the scene's
-    grain size and materials)."""
-    from rockcem._md_backend import _materials  # the runner's own mapping, not a copy
-    from rockcem.materials import mineral
-    from rockcem.scene import SCHEMA, load_scene, run_scene
-
-    scene = load_scene(scene_name)
-    ds = run_scene(scene)
-    pe = ds.pressure_effective.values
-    if np.any(np.diff(pe) < 0):
-        raise ValueError("effective pressure is not monotone in depth: the present stress is "
-                         "not the largest (uplift); this benchmark needs a burial path")
-    at = ds.sel(depth=np.asarray(depths, dtype=float), method="nearest")
-    state = {"depth": at.depth.values.astype(float), "stress_MPa": at.pressure_effective.values,
-             "cement_fraction": at.cement_fraction.values,
-             "porosity_burial": at.porosity.values}
-    md_defaults = {k: v[0] for k, v in SCHEMA["models.md"].items()}
-    grain_size = scene.sections["sandstone"]["grain_size"]                   # mm
-    r_max = grain_size / 2.0 * 1e-3
-    m = scene.sections["materials"]
-    grain, cement = _materials(mineral(m["grain"]), mineral(m["cement"]))
-    settings = dict(schemes=tuple(md_defaults["schemes"]),
-                    radius_range=((1.0 - md_defaults["radius_spread"]) * r_max, r_max),
-                    material=grain, cement=cement,
-                    fall_stiffness_factor=md_defaults["fall_stiffness_factor"],
-                    interface=md_defaults["interface"], measure=md_defaults["measure"],
-                    slab=md_defaults["slab"])
-    return state, settings, md_defaults
-
-
 class Runs:
-    """carry_down runs, one fresh work folder per pack (size, seed), reused across Omega."""
+    """Scene runs at :data:`DEPTHS`, one fresh work folder per pack (size, seed, strain step),
+    reused by the runs on that pack; a run already made is returned again."""
 
-    def __init__(self, state, settings, root):
-        self.state, self.settings, self.root = state, settings, root
+    def __init__(self, depths, root):
+        from rockcem.scene import SCHEMA
+
+        self.depths, self.root = [float(z) for z in depths], root
+        self.defaults = {k: v[0] for k, v in SCHEMA["models.md"].items()}
         self.folders, self.pack_seconds, self.done = {}, {}, {}
 
-    def __call__(self, size, seed, omega):
-        from md.along_depth import carry_down
+    def __call__(self, *, size, seed=0, omegas=(6.0,), rtol_scale=1.0, strain_step=5e-4):
+        from rockcem.scene import load_scene, run_scene
 
-        key = (tuple(size), int(seed), float(omega))
+        omegas = tuple(float(w) for w in omegas) + (0.0,) * (3 - len(omegas))
+        key = (tuple(size), int(seed), omegas, float(rtol_scale), float(strain_step))
         if key in self.done:
             return self.done[key]
-        pack_key = (tuple(size), int(seed))
+        pack_key = (tuple(size), int(seed), float(strain_step))
         if pack_key not in self.folders:
-            self.folders[pack_key] = tempfile.mkdtemp(prefix=f"{_size_label(size)}_s{seed}_",
-                                                      dir=self.root)
+            self.folders[pack_key] = tempfile.mkdtemp(
+                prefix=f"{_size_label(size)}_s{seed}_e{strain_step:g}_", dir=self.root)
+        scene = load_scene(SCENE).replace(**{
+            "models.md.depths": self.depths, "models.md.samples": 1,
+            "models.md.size": [float(s) for s in size], "models.md.seed": int(seed),
+            "models.md.resolution": omegas[0], "models.md.resolution_check": omegas[1],
+            "models.md.resolution_check2": omegas[2],
+            "models.md.workdir": self.folders[pack_key]})
+        if rtol_scale != 1.0:       # the members' stage files do not know the tolerance
+            self._clear_members(pack_key)
         load0 = os.getloadavg()[0]
-        t0 = time.perf_counter()
-        res = carry_down(self.state["stress_MPa"], self.state["cement_fraction"], size=size,
-                         seed=int(seed), resolution=float(omega), resolution_check=0.0,
-                         workdir=self.folders[pack_key], **self.settings)
-        total = time.perf_counter() - t0
-        members = float(res.wall_time.sum())
-        if pack_key not in self.pack_seconds:       # settled and compacted in this call
-            self.pack_seconds[pack_key] = total - members
+        with _Capture() as capture, solver_rtol(rtol_scale), \
+                warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            capture.extra = {} if strain_step == 5e-4 else {"strain_step": float(strain_step)}
+            t0 = time.perf_counter()
+            ds = run_scene(scene)
+            seconds_scene = time.perf_counter() - t0
+        (seconds_cd, cd), = capture.calls
+        if rtol_scale != 1.0:       # nor may a later run take them for the default's
+            self._clear_members(pack_key)
+        members = float(cd.wall_time.sum())
+        if pack_key not in self.pack_seconds:       # its stage files were made in this call
+            self.pack_seconds[pack_key] = seconds_cd - members
         load = 0.5 * (load0 + os.getloadavg()[0])
+        at = ds.sel(model="md").sel(depth=self.depths, method="nearest")
+        cd = cd.isel(scheme=0)
         rows = []
-        for k, scheme in enumerate(res.scheme.values):
-            r = res.isel(scheme=k)
-            for i in range(res.sizes["point"]):
-                rho = float(r.density[i])
-                M, G = float(r.p_modulus[i]), float(r.shear_modulus[i])
-                rows.append(dict(
-                    size=_size_label(size), seed=int(seed), omega=float(omega),
-                    scheme=str(scheme), n_grains=int(res.attrs["n_grains"]),
-                    depth=self.state["depth"][i], stress_MPa=self.state["stress_MPa"][i],
-                    stress_reached_MPa=float(res.stress_reached[i]) / 1e6,
-                    cement_fraction=self.state["cement_fraction"][i],
-                    porosity_burial=self.state["porosity_burial"][i],
-                    porosity_pack=float(res.porosity_pack[i]),
-                    saturation=float(r.saturation[i]),
-                    cement_overflow=int(r.cement_overflow[i]),
-                    p_modulus=M / 1e9, shear_modulus=G / 1e9, density=rho / 1e3,
-                    vp_dry=np.sqrt(M / rho) / 1e3, vs_dry=np.sqrt(G / rho) / 1e3,
-                    seconds_member=float(r.wall_time[i]),
-                    seconds_pack=self.pack_seconds[pack_key], seconds_members=members,
-                    seconds_total=self.pack_seconds[pack_key] + members, load_average=load))
+        for i, depth in enumerate(self.depths):
+            full = float(at.md_porosity[i]) <= 0
+            voxel = self._voxel_factor(omegas) * omegas[0] if full else np.nan
+            row = dict(size=_size_label(size), seed=int(seed), omega=omegas[0],
+                       omega_check=omegas[1], omega_check2=omegas[2], omega_voxel=voxel,
+                       rtol_scale=float(rtol_scale), strain_step=float(strain_step),
+                       n_grains=int(cd.attrs["n_grains"]), depth=depth,
+                       regime="voxel" if full else self._regime(float(at.md_cement_saturation[i])),
+                       stress_MPa=float(at.pressure_effective[i]),
+                       cement_fraction=float(at.cement_fraction[i]),
+                       porosity_md=float(at.md_porosity[i]),
+                       saturation=float(at.md_cement_saturation[i]),
+                       vp=float(at.vp[i]), vs=float(at.vs[i]),
+                       vp_error_resolution=float(at.vp_error_resolution[i]),
+                       vs_error_resolution=float(at.vs_error_resolution[i]),
+                       asymptotic=float(at.md_resolution_asymptotic[i]),
+                       seconds_member=float(cd.wall_time[i]), seconds_members=members,
+                       seconds_pack=self.pack_seconds[pack_key],
+                       seconds_total=self.pack_seconds[pack_key] + members,
+                       seconds_scene=seconds_scene, load_average=load,
+                       warnings=len(caught))
+            for q in CONSTANTS:
+                row[q] = float(cd[_CD_NAMES[q]][i]) / 1e9
+            rows.append(row)
         self.done[key] = rows
-        print(f"  {_size_label(size):>8s} seed {seed} Omega {omega:g}: pack "
-              f"{self.pack_seconds[pack_key]:6.1f} s, members {members:6.1f} s (load "
-              f"{load:.1f}); M " + " ".join(f"{row['p_modulus']:7.3f}" for row in rows)
-              + " GPa, G " + " ".join(f"{row['shear_modulus']:7.3f}" for row in rows),
-              flush=True)
+        print(f"  {_size_label(size):>7s} seed {seed} Omega {'/'.join(f'{w:g}' for w in omegas if w)}"
+              f" rtol x{rtol_scale:g} step {strain_step:g}: pack "
+              f"{self.pack_seconds[pack_key]:6.1f} s, members "
+              + " ".join(f"{r['seconds_member']:.1f}" for r in rows)
+              + f" s (load {load:.1f}); vp " + " ".join(f"{r['vp']:.4f}" for r in rows)
+              + ", vs " + " ".join(f"{r['vs']:.4f}" for r in rows) + " km/s", flush=True)
         return rows
 
+    def _clear_members(self, pack_key):
+        """Remove the member stage files of a pack's folder (carry_down's ``members/``)."""
+        from pathlib import Path
 
-#: A Richardson limit is the reference only inside this range of orders (first order is what
-#: the single cemented contact shows, md_single_contact.py; 1.6 the pendular pack,
-#: md_omega_convergence.py); an order far outside it extrapolates noise.
-CREDIBLE_ORDER = (0.5, 3.0)
+        for path in Path(self.folders[pack_key]).glob("*/members/*.nc"):
+            path.unlink()
 
+    @staticmethod
+    def _voxel_factor(omegas):
+        """carry_down's voxel factor for these resolutions (its rule, from its constant)."""
+        from md.along_depth import VOXEL_RESOLUTION_FACTOR
 
-def omega_reference(omega, value):
-    """Reference of an Omega sequence: ``(value, kind, order)``. The three-point Richardson
-    limit of the three finest Omega (``md_omega_convergence.richardson``) where the sequence is
-    in its asymptotic range: the last three changes have one sign and shrink, and the order
-    lies in :data:`CREDIBLE_ORDER`. Otherwise the finest Omega (kind ``finest``; the errors
-    against it are then lower bounds of the true resolution error)."""
-    from md_omega_convergence import richardson
+        low = min(w for w in omegas if w)
+        return VOXEL_RESOLUTION_FACTOR if low * VOXEL_RESOLUTION_FACTOR >= 1 else 1.0
 
-    v = np.asarray(value, float)
-    change = np.diff(v)[-3:]
-    lim, order = richardson(omega, v)
-    asymptotic = (change.size == 3 and (np.all(change > 0) or np.all(change < 0))
-                  and np.all(np.abs(change[1:]) < np.abs(change[:-1])))
-    if asymptotic and np.isfinite(lim) and CREDIBLE_ORDER[0] <= order <= CREDIBLE_ORDER[1]:
-        return float(lim), "richardson", float(order)
-    return float(v[-1]), "finest", float(order)
+    @staticmethod
+    def _regime(saturation):
+        from md.growth import FILM_MAX_SATURATION
+
+        return "film" if saturation <= FILM_MAX_SATURATION else "cells"
 
 
-def omega_summary(df):
-    """Per depth and scheme: each Omega's moduli, their change from the next coarser Omega and
-    their error against the reference (:func:`omega_reference`)."""
+# ----------------------------------------------------------------------------- summaries
+def _knob(study, row):
+    return {"omega": f"{row['omega']:g}", "rtol": f"x{row['rtol_scale']:g}",
+            "strain_step": f"{row['strain_step']:g}", "size": row["size"],
+            "default": "/".join(f"{w:g}" for w in (row["omega"], row["omega_check"],
+                                                    row["omega_check2"]) if w)}[study]
+
+
+def sequence_summary(df, study, order_by, descending=False):
+    """Per depth: each knob value's quantities, their change from the previous value (in
+    the order of ``order_by``, coarse to fine: ascending, or ``descending``) and their
+    relative error against the finest (the last)."""
     import pandas as pd
 
     out = []
-    for (depth, scheme), g in df.groupby(["depth", "scheme"], sort=True):
-        g = g.sort_values("omega")
-        ref = {var: omega_reference(g.omega.values, g[var].values) for var in MODULI}
+    for depth, g in df[df.study == study].groupby("depth", sort=True):
+        g = g.sort_values(order_by, ascending=not descending)
+        ref = g.iloc[-1]
         prev = None
         for _, row in g.iterrows():
-            rec = dict(study="omega", knob=f"{row.omega:g}", depth=depth, scheme=scheme,
-                       omega=row.omega, size=row["size"], n_grains=row.n_grains, seeds=1,
-                       saturation=row.saturation, seconds_pack=row.seconds_pack,
-                       seconds_members=row.seconds_members, seconds_total=row.seconds_total,
-                       seconds_member=row.seconds_member)
-            for var in MODULI:
-                value, kind, order = ref[var]
-                rec[var] = row[var]
-                rec[f"{var}_std"] = np.nan
-                rec[f"{var}_reference"] = value
-                rec[f"{var}_reference_kind"] = kind
-                rec[f"{var}_richardson_order"] = order
-                rec[f"{var}_change"] = (row[var] / prev[var] - 1) if prev is not None else np.nan
-                rec[f"{var}_error"] = abs(row[var] / value - 1)
-                rec[f"{var}_spread"] = np.nan
-                rec[f"{var}_bias"] = rec[f"{var}_error"]
+            rec = {k: row[k] for k in ("depth", "regime", "saturation", "omega", "omega_voxel",
+                                       "size", "seconds_member", "seconds_members",
+                                       "seconds_pack", "seconds_total")}
+            rec.update(study=study, knob=_knob(study, row), seeds=1,
+                       reference=_knob(study, ref))
+            for q in QUANTITIES:
+                rec[q] = row[q]
+                rec[f"{q}_change"] = row[q] / prev[q] - 1 if prev is not None else np.nan
+                rec[f"{q}_error"] = abs(row[q] / ref[q] - 1)
+                rec[f"{q}_spread"] = np.nan
             prev = row
             out.append(rec)
     return pd.DataFrame(out)
 
 
-def size_summary(df, sizes):
-    """Per size, depth and scheme: seed mean and standard deviation (ddof 1) of the moduli; the
-    reference is the largest size's seed mean; the error of one run is sqrt(bias^2 + std^2)."""
+def size_summary(df):
+    """Per size and depth: seed mean and standard deviation (ddof 1); reference the largest
+    size's seed mean; the error of one run sqrt(bias^2 + std^2)."""
     import pandas as pd
 
-    order = {_size_label(s): k for k, s in enumerate(sizes)}
-    largest = _size_label(max(sizes, key=np.prod))
+    sub = df[df.study == "size"]
+    if sub.empty:
+        return pd.DataFrame()
+    sizes = sorted(sub["size"].unique(), key=lambda s: np.prod([float(x) for x in s.split("x")]))
     out = []
-    for (depth, scheme), g in df.groupby(["depth", "scheme"], sort=True):
-        ref = {var: g[g["size"] == largest][var].mean() for var in MODULI}
-        for size, h in sorted(g.groupby("size"), key=lambda item: order[item[0]]):
-            per_seed = h.drop_duplicates("seed")
-            rec = dict(study="size", knob=size, depth=depth, scheme=scheme,
-                       omega=h.omega.values[0], size=size, n_grains=h.n_grains.mean(),
-                       seeds=len(per_seed), saturation=h.saturation.mean(),
-                       seconds_pack=per_seed.seconds_pack.mean(),
-                       seconds_members=per_seed.seconds_members.mean(),
-                       seconds_total=per_seed.seconds_total.mean(),
-                       seconds_member=h.seconds_member.mean())
-            for var in MODULI:
-                mean = h[var].mean()
-                std = h[var].std(ddof=1) if len(h) > 1 else np.nan
-                bias = abs(mean / ref[var] - 1)
-                spread = std / mean
-                rec[var] = mean
-                rec[f"{var}_std"] = std
-                rec[f"{var}_reference"] = ref[var]
-                rec[f"{var}_reference_kind"] = f"mean of {largest}"
-                rec[f"{var}_richardson_order"] = np.nan
-                rec[f"{var}_change"] = np.nan
-                rec[f"{var}_spread"] = spread
-                rec[f"{var}_bias"] = bias
-                rec[f"{var}_error"] = float(np.hypot(bias, spread)) if np.isfinite(spread) \
+    for depth, g in sub.groupby("depth", sort=True):
+        ref = g[g["size"] == sizes[-1]]
+        for size in sizes:
+            h = g[g["size"] == size]
+            rec = {k: h[k].mean() for k in ("saturation", "omega", "omega_voxel",
+                                            "seconds_member", "seconds_members",
+                                            "seconds_pack", "seconds_total")}
+            rec.update(study="size", knob=size, depth=depth, regime=h.regime.values[0],
+                       size=size, seeds=len(h), reference=f"mean of {sizes[-1]}")
+            for q in QUANTITIES:
+                mean = h[q].mean()
+                spread = h[q].std(ddof=1) / abs(mean) if len(h) > 1 else np.nan
+                bias = abs(mean / ref[q].mean() - 1)
+                rec[q], rec[f"{q}_change"] = mean, np.nan
+                rec[f"{q}_spread"] = spread
+                rec[f"{q}_error"] = float(np.hypot(bias, spread)) if np.isfinite(spread) \
                     else bias
             out.append(rec)
     return pd.DataFrame(out)
 
 
-def plot(summary, tag):
-    """Relative error against the wall time of one configuration, log-log, one panel per
-    modulus; colour = depth, circles = Omega (labelled), squares = pack size (labelled; error of
-    one run, sqrt(bias^2 + seed std^2)), open squares = the seed spread alone."""
+def error_bar_check(df):
+    """The scene's stated resolution error of vp and vs at its own resolutions (the ``default``
+    run) against the observed difference of its finest-resolution value from the omega
+    study's finest Omega, per depth: whether the bar bounds it. Also checks that the default
+    run's values equal the omega study's run at the same Omega (the checks must not change
+    them)."""
+    import pandas as pd
+
+    out = []
+    omega = df[df.study == "omega"]
+    for _, row in df[df.study == "default"].iterrows():
+        g = omega[omega.depth == row.depth].sort_values("omega")
+        if g.empty:
+            continue
+        ref, same = g.iloc[-1], g[g.omega == row.omega]
+        rec = {k: row[k] for k in ("depth", "regime", "saturation", "omega", "omega_voxel",
+                                   "seconds_member", "seconds_members", "seconds_pack",
+                                   "seconds_total")}
+        rec.update(study="default", knob=_knob("default", row), seeds=1,
+                   reference=f"Omega {ref.omega:g}", size=row["size"],
+                   asymptotic=row.asymptotic,
+                   equals_single_run=float(np.allclose(
+                       same[list(QUANTITIES)].to_numpy(float),
+                       row[list(QUANTITIES)].to_numpy(float)[None, :], rtol=1e-12, atol=0))
+                   if not same.empty else np.nan)
+        for q in QUANTITIES:
+            rec[q] = row[q]
+            rec[f"{q}_error"] = abs(row[q] / ref[q] - 1)
+            rec[f"{q}_change"] = rec[f"{q}_spread"] = np.nan
+        for v in VELOCITIES:
+            observed = abs(row[v] - ref[v])
+            rec[f"{v}_error_resolution"] = row[f"{v}_error_resolution"]
+            rec[f"{v}_observed"] = observed
+            rec[f"{v}_bar_over_observed"] = row[f"{v}_error_resolution"] / observed \
+                if observed > 0 else np.inf
+            rec[f"{v}_bounds"] = float(row[f"{v}_error_resolution"] >= observed)
+        out.append(rec)
+    return pd.DataFrame(out)
+
+
+def stage_reuse(df):
+    """Runs of the rtol study whose members were read back from the default run's stage files
+    instead of solved at their tolerance (the stage files do not record it): a member's wall
+    time equal to the bit to the default's at the same depth can only have been read back.
+    Returns their ``(rtol_scale, depth)`` pairs (empty when every member was solved)."""
+    rtol = df[df.study == "rtol"]
+    default = rtol[rtol.rtol_scale == 1.0].set_index("depth").seconds_member
+    other = rtol[rtol.rtol_scale != 1.0]
+    same = other.seconds_member.to_numpy() == default.reindex(other.depth).to_numpy()
+    return list(zip(other.rtol_scale[same], other.depth[same]))
+
+
+def summarize(df):
+    import pandas as pd
+
+    reused = stage_reuse(df)
+    if reused:
+        raise RuntimeError(f"rtol study: members read back from stage files, not solved at "
+                           f"their tolerance (scale, depth): {reused}")
+
+    parts = [sequence_summary(df, "omega", "omega"),
+             sequence_summary(df, "rtol", "rtol_scale", descending=True),
+             sequence_summary(df, "strain_step", "strain_step", descending=True),
+             size_summary(df), error_bar_check(df)]
+    return pd.concat([p for p in parts if not p.empty], ignore_index=True)
+
+
+# ----------------------------------------------------------------------------- figure
+def plot(summary, prov, tag):
+    """Relative error of vp and vs against the wall time of one configuration, log-log, one
+    panel each; colour = depth, marker = knob (labelled by its value); the third panel the
+    scene's stated resolution error against the observed difference."""
     _common.use_agg()
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullFormatter
+    from md_scene_example import save_figure
 
     depths = sorted(summary.depth.unique())
-    fig, axes = plt.subplots(1, len(MODULI), figsize=(12, 4.8), squeeze=False)
-    for ax, (var, title) in zip(axes[0], MODULI.items()):
+    fig, axes = plt.subplots(1, 3, figsize=(17, 5.0), squeeze=False)
+    names = {"omega": "Omega", "rtol": "solver rtol", "strain_step": "strain step",
+             "size": "pack size"}
+    for ax, var in zip(axes[0], VELOCITIES):
         for c, depth in enumerate(depths):
             color = f"C{c}"
-            for study, style in (("omega", "o-"), ("size", "s--")):
+            for study, style in MARKERS.items():
                 g = summary[(summary.study == study) & (summary.depth == depth)]
                 if g.empty:
                     continue
-                err = g[f"{var}_error"].values
+                err = g[f"{var}_error"].to_numpy(float)
                 ok = err > 0
-                sat = summary[summary.depth == depth].saturation.values[0]
-                ax.plot(g.seconds_total.values[ok], err[ok], style, color=color, ms=5, lw=1,
-                        label=f"{depth:g} m, S_c {sat:.3f}: "
-                              + ("Omega" if study == "omega" else "pack size"))
-                for x, y, knob in zip(g.seconds_total.values[ok], err[ok], g.knob.values[ok]):
+                if not ok.any():
+                    continue
+                ax.plot(g.seconds_total.to_numpy(float)[ok], err[ok], style, color=color,
+                        ms=5, lw=1, label=f"{depth:g} m ({g.regime.values[0]}): {names[study]}")
+                for x, y, knob in zip(g.seconds_total.to_numpy(float)[ok], err[ok],
+                                      g.knob.values[ok]):
                     ax.annotate(knob, (x, y), textcoords="offset points", xytext=(3, 3),
                                 fontsize=7, color=color)
                 if study == "size":
                     ax.plot(g.seconds_total, g[f"{var}_spread"], "s", mfc="none", color=color,
                             ms=7, lw=0)
-        ax.set(xlabel="wall time of one configuration (s)", ylabel="relative error",
-               title=title)
-        positive = summary[[f"{var}_error", f"{var}_spread"]].to_numpy()
-        if not np.any(positive[np.isfinite(positive)] > 0):
-            ax.text(0.5, 0.5, "no errors to plot\n(one value per knob)", ha="center",
-                    transform=ax.transAxes)
-            continue
-        ax.set(xscale="log", yscale="log")
-        ticks = [t for t in (10, 20, 50, 100, 200, 500, 1000, 2000, 5000)
-                 if summary.seconds_total.min() / 1.5 <= t <= summary.seconds_total.max() * 1.5]
+        ax.set(xlabel="wall time of one configuration, pack + members (s)",
+               ylabel="relative error", title=f"{var} (saturated, vertical)", xscale="log",
+               yscale="log", ylim=(FLOOR, 1.0))
+        lo, hi = summary.seconds_total.min(), summary.seconds_total.max()
+        ticks = [t for t in (5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000)
+                 if lo / 1.5 <= t <= hi * 1.5]
         ax.xaxis.set_major_locator(FixedLocator(ticks))
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    ax = axes[0, 2]
+    check = summary[summary.study == "default"]
+    for c, depth in enumerate(depths):
+        g = check[check.depth == depth]
+        for var, marker in (("vp", "o"), ("vs", "s")):
+            if g.empty:
+                continue
+            ax.plot(g[f"{var}_observed"], g[f"{var}_error_resolution"], marker, color=f"C{c}",
+                    ms=7, mfc="none" if var == "vs" else f"C{c}",
+                    label=f"{depth:g} m {var}")
+    finite = np.array([]) if check.empty else check[
+        [f"{v}_{k}" for v in VELOCITIES for k in ("observed", "error_resolution")]].to_numpy(float)
+    finite = finite[np.isfinite(finite) & (finite > 0)]
+    if finite.size:
+        span = np.array([finite.min() / 3, finite.max() * 3])
+        ax.plot(span, span, "k-", lw=0.8, label="bar = difference")
+        ax.set(xscale="log", yscale="log", xlim=span, ylim=span)
+    ax.set(xlabel="observed |v(scene's Omega) - v(finest Omega)| (km/s)",
+           ylabel="stated resolution error (km/s)",
+           title="the scene's error bar against the observed difference\n"
+                 "(above the line: the bar bounds it)")
+    ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    if not check.empty:
+        ax.legend(fontsize=7)
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=3,
-               bbox_to_anchor=(0.5, -0.12))
-    kinds = sorted({k for var in MODULI for k in
-                    summary[summary.study == "omega"][f"{var}_reference_kind"].unique()})
-    fig.suptitle("MD scene, error against wall time. Circles: Omega against "
-                 + (" / ".join(kinds).replace("finest", "the finest Omega (a lower bound)"))
-                 + ";\nfilled squares: pack size, one run against the largest size's seed "
-                 "mean, sqrt(bias^2 + seed std^2); open squares: the seed spread alone",
-                 fontsize=9, y=1.05)
-    _common.save_figure(fig, _common.result_path(NAME, "png", tag))
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=4,
+               bbox_to_anchor=(0.35, -0.2))
+    fig.suptitle(f"{SCENE}'s MD member, error against wall time; each knob against its finest "
+                 "value (Omega: a lower bound where not converged); open squares: seed spread "
+                 f"of one pack;\nerrors below {FLOOR:g} (the solver tolerance's) lie under the "
+                 "axis", fontsize=9, y=1.04)
+    save_figure(fig, _common.result_path(NAME, "png", tag), prov)
+
+
+# ----------------------------------------------------------------------------- output
+def finish(df, attrs, tag):
+    """Summary, CSV, netCDF and PNG from the per-run rows."""
+    import xarray as xr
+
+    summary = summarize(df)
+    _common.write_csv(df, _common.result_path(NAME, "csv", tag), attrs)
+    _common.write_csv(summary, _common.result_path(NAME + "_summary", "csv", tag), attrs)
+    ds = xr.Dataset.from_dataframe(df.rename_axis("run"))
+    summ = xr.Dataset.from_dataframe(summary.rename_axis("entry").add_prefix("summary_"))
+    for data in (ds, summ):
+        for var in data.data_vars:
+            base = var.removeprefix("summary_")
+            base = base.removesuffix("_observed")
+            if base in UNITS:
+                data[var].attrs["units"] = UNITS[base]
+    _common.write_netcdf(xr.merge([ds, summ]).assign_attrs(attrs),
+                         _common.result_path(NAME, "nc", tag))
+    plot(summary, {"git_commit": attrs["git_commit"], "git_tree": attrs["git_tree"]}, tag)
+    fmt = {"study": ("study", "s"), "knob": ("knob", "s"), "depth": ("depth m", "g"),
+           "regime": ("regime", "s"), "vp": ("vp", ".4f"), "vp_error": ("vp err", ".2%"),
+           "vs": ("vs", ".4f"), "vs_error": ("vs err", ".2%"), "c33": ("C33", ".3f"),
+           "c33_error": ("err", ".2%"), "c44": ("C44", ".3f"), "c44_error": ("err", ".2%"),
+           "seconds_member": ("member s", ".1f"), "seconds_total": ("total s", ".1f")}
+    print(_common.markdown(summary, fmt))
+    check = summary[summary.study == "default"]
+    if not check.empty:
+        print(_common.markdown(check, {
+            "depth": ("depth m", "g"), "knob": ("Omega", "s"), "vp_error_resolution":
+            ("vp bar", ".4f"), "vp_observed": ("vp diff", ".4f"), "vp_bounds": ("bounds", "g"),
+            "vs_error_resolution": ("vs bar", ".4f"), "vs_observed": ("vs diff", ".4f"),
+            "vs_bounds": ("bounds", "g"), "equals_single_run": ("= single run", "g")}))
+    return summary
 
 
 def read_attrs(path):
@@ -326,191 +520,112 @@ def read_attrs(path):
     return attrs
 
 
-def finish(df, attrs, tag):
-    """Summary, CSV, netCDF and PNG from the per-run rows."""
-    import pandas as pd
-    import xarray as xr
-
-    sizes = sorted({tuple(float(x) for x in s.split("x")) for s in df[df.study == "size"]["size"]},
-                   key=np.prod)
-    parts = [omega_summary(df[df.study == "omega"])]
-    if sizes:                                   # not with --skip-size
-        parts.append(size_summary(df[df.study == "size"], sizes))
-    summary = pd.concat(parts, ignore_index=True)
-    _common.write_csv(df, _common.result_path(NAME, "csv", tag), attrs)
-    _common.write_csv(summary, _common.result_path(NAME + "_summary", "csv", tag), attrs)
-    ds = xr.Dataset.from_dataframe(df.rename_axis("run"))
-    for var, unit in UNITS.items():
-        if var in ds:
-            ds[var].attrs["units"] = unit
-    summ = xr.Dataset.from_dataframe(summary.rename_axis("entry").add_prefix("summary_"))
-    for var in summ.data_vars:
-        base = var.removeprefix("summary_")
-        if base in UNITS:
-            summ[var].attrs["units"] = UNITS[base]
-        elif base.startswith(tuple(MODULI)) and base.endswith(("_std", "_reference")):
-            summ[var].attrs["units"] = "GPa"
-    _common.write_netcdf(xr.merge([ds, summ]).assign_attrs(attrs),
-                         _common.result_path(NAME, "nc", tag))
-    plot(summary, tag)
-    print(_common.markdown(summary, {
-        "study": ("study", "s"), "knob": ("knob", "s"), "depth": ("depth m", "g"),
-        "saturation": ("S_c", ".3f"), "p_modulus": ("M GPa", ".3f"),
-        "p_modulus_std": ("± seeds", ".3f"), "p_modulus_change": ("change", "+.1%"),
-        "p_modulus_error": ("M err", ".1%"), "shear_modulus": ("G GPa", ".3f"),
-        "shear_modulus_std": ("± seeds", ".3f"), "shear_modulus_change": ("change", "+.1%"),
-        "shear_modulus_error": ("G err", ".1%"), "seconds_pack": ("pack s", ".1f"),
-        "seconds_members": ("members s", ".1f"), "seconds_total": ("total s", ".1f")}))
-    return summary
-
-
-def replot(tag):
-    """Summary, netCDF and figure again from the per-run CSV of an earlier run (its metadata
-    kept: they describe the code and machine that made the numbers)."""
-    import pandas as pd
-
-    path = _common.result_path(NAME, "csv", tag)
-    finish(pd.read_csv(path, comment="#"), read_attrs(path), tag)
-
-
-def _pair(text):
-    try:
-        omega, check = (float(x) for x in text.split(":"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"a pair is OMEGA:CHECK; got {text!r}") from None
-    return omega, check
-
-
-def example_timings(scene_name, pairs, tag):
-    """Wall time of the shipped MD example (``rockcem.scene.run_scene``, its own depths,
-    schemes and pack) at each ``(resolution, resolution_check)``, each in a fresh work folder:
-    the cost the defaults must fit. Writes ``results/<NAME>_example[_<tag>].csv``."""
-    import pandas as pd
-
-    from rockcem.scene import load_scene, run_scene
-
-    rows = []
-    for omega, check in pairs:
-        root = tempfile.mkdtemp(prefix=f"{NAME}_example_")
+def _sizes(texts):
+    out = []
+    for text in texts:
         try:
-            scene = load_scene(scene_name).replace(**{
-                "models.md.resolution": omega, "models.md.resolution_check": check,
-                "models.md.workdir": root})
-            load0 = os.getloadavg()[0]
-            t0 = time.perf_counter()
-            ds = run_scene(scene)
-            total = time.perf_counter() - t0
-        finally:
-            shutil.rmtree(root, ignore_errors=True)
-        md = [m for m in ds.model.values if str(m).startswith("md")]
-        wall = ds.md_wall_time.sel(model=md)
-        depths = wall.dropna("depth", how="all").depth.values
-        w = wall.transpose("model", "depth").values
-        slow = np.unravel_index(np.nanargmax(w), w.shape)
-        row = dict(scene=scene_name, omega=omega, check=check, depths=len(depths),
-                   members=int(np.isfinite(wall.values).sum()), schemes=" ".join(md),
-                   size=_size_label(scene.sections["models.md"]["size"]),
-                   seconds_total=total, seconds_members=float(wall.sum()),
-                   seconds_rest=total - float(wall.sum()),
-                   slowest_member_s=float(w[slow]),
-                   slowest_member=f"{md[slow[0]]} {wall.depth.values[slow[1]]:g} m",
-                   load_average=0.5 * (load0 + os.getloadavg()[0]))
-        rows.append(row)
-        print(f"  {scene_name} Omega {omega:g} (check {check:g}): {total:.1f} s, members "
-              f"{row['seconds_members']:.1f} s ({row['members']}), slowest "
-              f"{row['slowest_member']} {row['slowest_member_s']:.1f} s (load "
-              f"{row['load_average']:.1f})", flush=True)
-    df = pd.DataFrame(rows)
-    attrs = _common.environment_attrs(benchmark=NAME + " --example", **_common.md_source_attrs())
-    _common.write_csv(df, _common.result_path(NAME + "_example", "csv", tag), attrs)
-    print(_common.markdown(df, {
-        "omega": ("Omega", "g"), "check": ("check", "g"), "members": ("members", "d"),
-        "seconds_total": ("scene s", ".1f"), "seconds_members": ("members s", ".1f"),
-        "seconds_rest": ("pack + rest s", ".1f"), "slowest_member": ("slowest", "s"),
-        "slowest_member_s": ("its s", ".1f")}))
-    return df
+            size = tuple(float(p) for p in text.lower().split("x"))
+        except ValueError:
+            size = ()
+        if len(size) != 3:
+            raise SystemExit(f"{NAME}: --sizes: a size is three numbers joined by x (4x4x12); "
+                             f"got {text!r}")
+        out.append(size)
+    return out
 
 
 def main(argv=None):
     import pandas as pd
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default="carcione2022_sandstone")
-    ap.add_argument("--depths", type=float, nargs="+", default=[2000.0, 3000.0, 4000.0])
-    ap.add_argument("--omega", type=float, nargs="+", default=[2, 3, 4, 5, 6])
-    ap.add_argument("--omega-size", type=float, nargs=3, default=None,
-                    help="pack of the Omega study (default the scene's size)")
-    ap.add_argument("--omega-seed", type=int, default=None, help="default the scene's seed")
-    ap.add_argument("--sizes", type=_parse_size, nargs="+",
-                    default=[(3, 3, 8), (4, 4, 12), (5, 5, 16), (6, 6, 20)])
-    ap.add_argument("--size-omega", type=float, default=None,
-                    help="Omega of the size study (default the scene's resolution)")
+    ap.add_argument("--depths", type=float, nargs="+", default=list(DEPTHS))
+    ap.add_argument("--omega", type=float, nargs="+", default=[2.67, 4.0, 6.0, 8.0, 10.0])
+    ap.add_argument("--rtol-scales", type=float, nargs="+", default=[1e4, 1e2, 1.0, 1e-2])
+    ap.add_argument("--strain-steps", type=float, nargs="+", default=[5e-4, 2.5e-4])
+    ap.add_argument("--sizes", nargs="+", default=["3x3x8", "4x4x12", "5x5x16"])
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     ap.add_argument("--seeds-largest", type=int, default=2,
                     help="the largest size runs only the first N of --seeds (time budget)")
-    ap.add_argument("--skip-size", action="store_true", help="run the Omega study (a) only")
-    ap.add_argument("--quick", action="store_true",
-                    help="Omega 2 3 4, sizes 3x3x8 4x4x12, seeds 0 1")
-    ap.add_argument("--keep-work", action="store_true", help="keep the stage files")
+    ap.add_argument("--studies", nargs="+", choices=STUDIES, default=list(STUDIES))
+    ap.add_argument("--quick", action="store_true", help="small, to test the script")
+    ap.add_argument("--allow-dirty", action="store_true",
+                    help="run with uncommitted source changes (recorded as a dirty tree)")
     ap.add_argument("--tag", default="")
     ap.add_argument("--replot", action="store_true",
                     help="only recompute the summary, netCDF and figure from the per-run CSV")
-    ap.add_argument("--example", nargs="*", type=_pair, metavar="OMEGA:CHECK",
-                    help="instead: time the shipped MD example (--example-scene) at these "
-                    "resolution:resolution_check pairs (default 3:2 4:3)")
-    ap.add_argument("--example-scene", default="carcione2022_sandstone_md")
     args = ap.parse_args(argv)
     if args.replot:
-        return replot(args.tag)
-    if args.example is not None:
-        _common.announce_source()
-        return example_timings(args.example_scene, args.example or [(3.0, 2.0), (4.0, 3.0)],
-                               args.tag)
+        path = _common.result_path(NAME, "csv", args.tag)
+        if not path.exists():
+            raise SystemExit(f"{NAME}: --replot: no {path} (run the benchmark first)")
+        finish(pd.read_csv(path, comment="#", keep_default_na=True), read_attrs(path),
+               args.tag)
+        return 0
+    from md_scene_example import provenance
+
+    prov = provenance(args.allow_dirty)
+    from rockcem.scene import SCHEMA
+
+    defaults = {k: v[0] for k, v in SCHEMA["models.md"].items()}
+    base_size = tuple(defaults["size"])
+    omega0 = float(defaults["resolution"])
+    triple = (omega0, omega0 / 1.5, omega0 / 1.5**2)     # the scene's default checks
+    sizes = _sizes(args.sizes)
     if args.quick:
-        args.omega, args.sizes, args.seeds = [2, 3, 4], [(3, 3, 8), (4, 4, 12)], [0, 1]
-        args.seeds_largest = 2
+        base_size, omega0 = (3.0, 3.0, 8.0), 4.0
+        args.omega, triple = [2.0, 2.67, 4.0], (4.0, 2.67, 2.0)
+        args.rtol_scales, args.strain_steps = [1e2, 1.0], [1e-3, 5e-4]
+        sizes, args.seeds, args.seeds_largest = [(3.0, 3.0, 8.0)], [0, 1], 2
+        args.tag = args.tag or "quick"
     _common.announce_source()
     md_attrs = _common.md_source_attrs()
     t_start = time.perf_counter()
-    state, settings, md_defaults = burial_states(args.scene, args.depths)
-    omega_size = tuple(args.omega_size or md_defaults["size"])
-    omega_seed = md_defaults["seed"] if args.omega_seed is None else args.omega_seed
-    size_omega = args.size_omega or md_defaults["resolution"]
-    print("burial states: " + "; ".join(
-        f"{z:g} m: {p:.2f} MPa, cement {c:.4f}" for z, p, c in
-        zip(state["depth"], state["stress_MPa"], state["cement_fraction"])), flush=True)
     root = tempfile.mkdtemp(prefix=NAME + "_")
+    rows = []
     try:
-        runs = Runs(state, settings, root)
+        runs = Runs(args.depths, root)
         # warm-up: compile (or load) the numba kernels outside the timed runs
-        warm = Runs({k: v[:1] for k, v in state.items()}, settings, root)
-        warm((3.0, 3.0, 8.0), 99, 2.0)
-        rows = []
-        print(f"(a) Omega on {_size_label(omega_size)}, seed {omega_seed}", flush=True)
-        for omega in sorted(args.omega):
-            rows += [dict(r, study="omega") for r in runs(omega_size, omega_seed, omega)]
-        print(f"(b) pack size at Omega {size_omega:g}", flush=True)
-        for size in [] if args.skip_size else args.sizes:
-            last = size == max(args.sizes, key=np.prod)
-            for seed in args.seeds[:args.seeds_largest] if last else args.seeds:
-                rows += [dict(r, study="size") for r in runs(size, seed, size_omega)]
+        Runs(args.depths[-1:], root)(size=(3.0, 3.0, 8.0), seed=99, omegas=(2.0,))
+        partial = {**prov, "partial": 1, "command": " ".join(sys.argv)}
+
+        def add(study, got):
+            rows.extend(dict(r, study=study) for r in got)
+            _common.write_csv(pd.DataFrame(rows), _common.result_path(NAME, "csv", args.tag),
+                              partial)
+
+        studies = set(args.studies)
+        if "omega" in studies:
+            print(f"omega: {_size_label(base_size)}, seed 0", flush=True)
+            for w in sorted(args.omega):
+                add("omega", runs(size=base_size, omegas=(w,)))
+        if "default" in studies:
+            print(f"default: Omega {'/'.join(f'{w:g}' for w in triple)}", flush=True)
+            add("default", runs(size=base_size, omegas=triple))
+        if "rtol" in studies:
+            print(f"rtol at Omega {omega0:g}", flush=True)
+            for s in sorted(args.rtol_scales, reverse=True):
+                add("rtol", runs(size=base_size, omegas=(omega0,), rtol_scale=s))
+        if "strain_step" in studies:
+            print(f"strain_step at Omega {omega0:g}", flush=True)
+            for e in sorted(args.strain_steps, reverse=True):
+                add("strain_step", runs(size=base_size, omegas=(omega0,), strain_step=e))
+        if "size" in studies:
+            print(f"size at Omega {omega0:g}", flush=True)
+            largest = max(sizes, key=np.prod)
+            for size in sizes:
+                for seed in args.seeds[:args.seeds_largest] if size == largest else args.seeds:
+                    add("size", runs(size=size, seed=seed, omegas=(omega0,)))
     finally:
-        if args.keep_work:
-            print(f"stage files kept in {root}")
-        else:
-            shutil.rmtree(root, ignore_errors=True)
+        shutil.rmtree(root, ignore_errors=True)
     wall = time.perf_counter() - t_start
-    attrs = _common.environment_attrs(
-        benchmark=NAME, scene=args.scene, depths=" ".join(f"{z:g}" for z in state["depth"]),
-        omega_size=_size_label(omega_size), omega_seed=omega_seed, size_omega=size_omega,
-        seeds=" ".join(map(str, args.seeds)), seeds_largest=args.seeds_largest,
-        schemes=" ".join(settings["schemes"]), interface=settings["interface"],
-        measure=settings["measure"], slab=settings["slab"],
-        radius_range_m=" ".join(f"{r:.4g}" for r in settings["radius_range"]),
-        benchmark_wall_seconds=wall, **md_attrs)
+    attrs = {**_common.environment_attrs(
+        benchmark=NAME, scene=SCENE, depths=" ".join(f"{z:g}" for z in args.depths),
+        quick=bool(args.quick), benchmark_wall_seconds=round(wall, 1), **md_attrs), **prov,
+        "partial": 0}
     finish(pd.DataFrame(rows), attrs, args.tag)
     print(f"benchmark wall time {wall:.0f} s")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
