@@ -196,6 +196,18 @@ def _reconstructed(pack, intergranular_volume, folder, chain_key, pack_file):
     return out, key, path
 
 
+#: The constants a TI solve adds to the vertical P and S moduli (NaN when isotropic).
+_TI_ONLY = ("c11", "c13", "c66")
+
+
+def _stiffness_moduli(st, ti=True):
+    """The dict of :func:`_moduli` from a five-constant solve ``st`` (``c11`` … ``c66``,
+    ``density``: :func:`md.static.static_stiffness`, :func:`md.voxel.sample_stiffness`); the
+    vertical P and S moduli are C33 and C44, the other three NaN unless ``ti``."""
+    return {"p_modulus": st.c33, "shear_modulus": st.c44,
+            **{k: getattr(st, k) if ti else np.nan for k in _TI_ONLY}, "density": st.density}
+
+
 def _moduli(system, measure, anisotropy="isotropic"):
     """Dry moduli of a linearised sample (Pa, :data:`MODULI`; the TI constants NaN unless
     ``anisotropy="ti"``) and its density (kg/m³), as a dict."""
@@ -203,10 +215,8 @@ def _moduli(system, measure, anisotropy="isotropic"):
     from .static import static_moduli, static_stiffness
 
     if measure == "static" and anisotropy == "ti":
-        st = static_stiffness(system)               # five loads, one factorisation
-        return {"p_modulus": st.c33, "shear_modulus": st.c44, "c11": st.c11, "c13": st.c13,
-                "c66": st.c66, "density": st.density}
-    nan = {"c11": np.nan, "c13": np.nan, "c66": np.nan}
+        return _stiffness_moduli(static_stiffness(system))  # five loads, one factorisation
+    nan = dict.fromkeys(_TI_ONLY, np.nan)
     if measure == "static":
         st = static_moduli(system, ("p", "s"))      # one factorisation for both
         return {"p_modulus": st["p"].modulus, "shear_modulus": st["s"].modulus, **nan,
@@ -353,10 +363,7 @@ def _member(pack, fraction, scheme, omega, cement, options, cells=None, fill=Fal
         lat = cement_lattice(pack, omega * options.get("voxel_factor", 1.0))
         st = sample_stiffness(pack, lat, np.ones(lat.index.size, bool), cement,
                               slab_thickness=options["slab"] * 2 * pack.radii.max())
-        ti = options.get("anisotropy", "isotropic") == "ti"
-        return {"p_modulus": st.c33, "shear_modulus": st.c44,
-                **({"c11": st.c11, "c13": st.c13, "c66": st.c66} if ti else
-                   {"c11": np.nan, "c13": np.nan, "c66": np.nan}), "density": st.density}
+        return _stiffness_moduli(st, options.get("anisotropy", "isotropic") == "ti")
 
     if cells is not None and cells.any() or cells is None and fraction > 0:
         lat = cement_lattice(pack, omega)
