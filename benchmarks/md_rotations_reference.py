@@ -42,7 +42,8 @@ Run: ``python benchmarks/md_rotations_reference.py [--omega 8 10 12 14 16 20 24 
 ``--twist`` runs the study of the rotating lattice's torsion instead (the leads of
 :data:`TWIST_LEADS`: the grain–cement column's length, ``bond_column`` of
 ``md.cemented_contact.contact_system``, the cemented cells' radius, ``rim_shift``, and the
-interface cells' rotations tied to their grain by :func:`rotation_ties`; and the default lattice on a nearly flat neck, a/R ``--flat-alpha``),
+interface cells' rotations tied to their grain by :func:`rotation_ties`; and ``--flat-leads`` on
+a nearly flat neck, a/R ``--flat-alpha``),
 over ``--offsets`` lattice offsets; output ``results/md_rotations_reference_twist.csv``.
 """
 
@@ -504,10 +505,10 @@ def staircase_stiffness(radius_ratio, resolution, thickness_ratio, subdivision, 
 
 
 # ----------------------------------------------------------------------------- twist leads
-#: The leads of the twist study (``--twist``): the contact_system options of each (the grain–cement column's length,
-#: ``bond_column``; the cemented cells' radius, ``rim_shift``) and whether
-#: the interface cells' rotations are tied to their grain's (None, "drilling": the component
-#: along the bond normal, "all": all three).
+#: The leads of the twist study (``--twist``): the contact_system options of each (the
+#: grain–cement column's length, ``bond_column``; the cemented cells' radius, ``rim_shift``)
+#: and whether the interface cells' rotations are tied to their grain's (None, "drilling":
+#: the component along the bond normal, "all": all three).
 TWIST_LEADS = {
     "default": ({}, None),
     "column_volume": ({"bond_column": "volume"}, None),
@@ -515,6 +516,7 @@ TWIST_LEADS = {
     "column_distance_floor0.05": ({"bond_column": "distance", "column_floor": 0.05}, None),
     "column_distance_floor0.2": ({"bond_column": "distance", "column_floor": 0.2}, None),
     "rim_shift_0.15": ({"rim_shift": 0.15}, None),
+    "rim_shift_0.3": ({"rim_shift": 0.3}, None),
     "drilling_tied": ({}, "drilling"),
     "rotation_tied": ({}, "all"),
 }
@@ -597,15 +599,15 @@ def twist_summary(df):
 
 
 def twist_main(args, cement, rigid, radius):
-    """``--twist``: the leads at a/R ``--alpha`` and the first ``--eps``, and the default
-    lattice on a nearly flat neck (``--flat-alpha``, the same eps): its continuum references
+    """``--twist``: the leads at a/R ``--alpha`` and the first ``--eps``, and ``--flat-leads``
+    on a nearly flat neck (``--flat-alpha``, the same eps): their continuum references
     and rows, written to ``results/md_rotations_reference_twist.csv``."""
     import pandas as pd
 
     rows = []
     cases = [(args.alpha, args.twist_omega, list(args.twist_leads))]
     if args.flat_omega:
-        cases.append((args.flat_alpha, args.flat_omega, ["default", "rim_shift_0.15"]))
+        cases.append((args.flat_alpha, args.flat_omega, list(args.flat_leads)))
     eps = args.eps[0]
     for alpha, omegas, leads in cases:
         part = [r for r in continuum_rows(alpha, eps, cement, radius, args.twist_levels)
@@ -789,7 +791,8 @@ def main(argv=None):
     ap.add_argument("--twist", action="store_true",
                     help="the twist study instead: the leads of --twist-leads at "
                          "--twist-omega (first --eps), and the default lattice on a nearly "
-                         "flat neck (--flat-alpha) at --flat-omega, over --offsets offsets")
+                         "flat neck (--flat-alpha) at --flat-omega (--flat-leads), over "
+                         "--offsets offsets")
     ap.add_argument("--twist-leads", nargs="+", choices=list(TWIST_LEADS),
                     default=list(TWIST_LEADS))
     ap.add_argument("--twist-omega", type=float, nargs="+", default=[8, 12, 16, 24])
@@ -797,6 +800,8 @@ def main(argv=None):
                     help="continuum elements per side for --twist")
     ap.add_argument("--flat-alpha", type=float, default=0.1)
     ap.add_argument("--flat-omega", type=float, nargs="*", default=[60, 90])
+    ap.add_argument("--flat-leads", nargs="+", choices=list(TWIST_LEADS),
+                    default=["default", "rim_shift_0.15", "rim_shift_0.3"])
     args = ap.parse_args(argv)
     src = _common.announce_source()
     cement = md.HARD_CEMENT if args.cement == "hard" else md.SOFT_CEMENT
