@@ -38,6 +38,13 @@ continuum limit at the same eps).
 Run: ``python benchmarks/md_rotations_reference.py [--omega 8 10 12 14 16 20 24 32]
 [--eps 0.05 0.1] [--offsets 6] [--offset-omega 8 12 18 27] [--staircase-omega 12 16 24]``
 (about 10 minutes on one core).
+
+``--twist`` runs the study of the rotating lattice's torsion instead (the leads of
+:data:`TWIST_LEADS`: the grain–cement column's length, ``bond_column`` of
+``md.cemented_contact.contact_system``, the cemented cells' radius, ``rim_shift``, and the
+interface cells' rotations tied to their grain by :func:`rotation_ties`; and ``--flat-leads`` on
+a nearly flat neck, a/R ``--flat-alpha``),
+over ``--offsets`` lattice offsets; output ``results/md_rotations_reference_twist.csv``.
 """
 
 from __future__ import annotations
@@ -497,6 +504,132 @@ def staircase_stiffness(radius_ratio, resolution, thickness_ratio, subdivision, 
                             "iterations": iters}
 
 
+# ----------------------------------------------------------------------------- twist leads
+#: The leads of the twist study (``--twist``): the contact_system options of each (the
+#: grain–cement column's length, ``bond_column``; the cemented cells' radius, ``rim_shift``)
+#: and whether the interface cells' rotations are tied to their grain's (None, "drilling":
+#: the component along the bond normal, "all": all three).
+TWIST_LEADS = {
+    "default": ({}, None),
+    "column_volume": ({"bond_column": "volume"}, None),
+    "column_distance": ({"bond_column": "distance", "column_floor": 0.1}, None),
+    "column_distance_floor0.05": ({"bond_column": "distance", "column_floor": 0.05}, None),
+    "column_distance_floor0.2": ({"bond_column": "distance", "column_floor": 0.2}, None),
+    "rim_shift_0.15": ({"rim_shift": 0.15}, None),
+    "rim_shift_0.3": ({"rim_shift": 0.3}, None),
+    "drilling_tied": ({}, "drilling"),
+    "rotation_tied": ({}, "all"),
+}
+#: Stiffness of the study springs that tie a cell's rotation to its grain's, in units of
+#: G_c c_w^3 (N m/rad): stiff against the cell's own rotational stiffness (of order
+#: G_c c_w^3), so the tie is a constraint to about 10^-3.
+TIE_STIFFNESS = 1e3
+
+
+def rotation_ties(system, which, stiffness):
+    r"""Springs :math:`\tfrac12 k\,|P(\boldsymbol\theta_c - \boldsymbol\theta_g)|^2` on every
+    grain–cement bond of ``system`` (an :class:`md.AcousticSystem` with rotations), tying the
+    cell's rotation to its grain's: ``which="all"`` :math:`P = I`, ``"drilling"``
+    :math:`P = \hat n\hat n^T` (the turn about the bond normal only). Returns the sparse
+    matrix to add to the stiffness matrix (``extra`` of
+    ``md.cemented_contact._grain_reactions``)."""
+    import scipy.sparse as sp
+
+    g = np.asarray(system.bond_i, np.int64)
+    c = np.asarray(system.bond_j, np.int64)
+    nrm = np.asarray(system.bond_normal, float)
+    m = g.size
+    P = (np.einsum("bi,bj->bij", nrm, nrm) if which == "drilling"
+         else np.broadcast_to(np.eye(3), (m, 3, 3)))
+    dof = system.dof
+    rows, cols, vals = [], [], []
+    for a, b, sign in ((g, g, 1.0), (c, c, 1.0), (g, c, -1.0), (c, g, -1.0)):
+        for p in range(3):
+            for q in range(3):
+                rows.append(dof * a + 3 + p)
+                cols.append(dof * b + 3 + q)
+                vals.append(sign * stiffness * P[:, p, q])
+    n = system.n_particles * dof
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(n, n))
+
+
+def twist_rows(alpha, eps, cement, radius, omegas, rigid, shifts, leads):
+    """The rotating lattice with each lead of :data:`TWIST_LEADS` at every Omega and offset."""
+    from md.cemented_contact import _grain_reactions, contact_system
+
+    rows = []
+    for lead in leads:
+        options, tie = TWIST_LEADS[lead]
+        for omega in omegas:
+            for o, off in enumerate(shifts):
+                t0 = time.perf_counter()
+                system = contact_system(alpha, omega, radius=radius, thickness_ratio=eps,
+                                        material=rigid, cement=cement, rotations=True,
+                                        lattice_offset=tuple(off), **options)
+                extra = None
+                if tie is not None:
+                    cw = system.metadata["cell_width"]
+                    extra = rotation_ties(system, tie,
+                                          TIE_STIFFNESS * cement.shear_modulus * cw**3)
+                k = _grain_reactions(system, (2, 0, 4, 5), extra=extra)
+                rows.append(dict(kind="twist_lead", lead=lead, alpha=alpha, eps=eps,
+                                 omega=omega, rotations="yes", offset=o, offset_x=off[0],
+                                 offset_y=off[1], offset_z=off[2], **dict(zip(KEYS, k)),
+                                 seconds=time.perf_counter() - t0))
+            print(f"{lead} a/R {alpha} eps {eps} Omega {omega:g}: " + " ".join(
+                f"{key} {np.mean([r[key] for r in rows[-len(shifts):]]):.6e}" for key in KEYS),
+                flush=True)
+    return rows
+
+
+def twist_summary(df):
+    """Markdown table of the twist leads: mean +- standard error over the offsets of each
+    stiffness over the cement's continuum limit."""
+    lines = []
+    for (alpha, eps), g in df[df.kind == "twist_lead"].groupby(["alpha", "eps"]):
+        lines += [f"\na/R {alpha:g}, eps {eps:g} (mean over offsets +- standard error)", "",
+                  "| lead | Omega | offsets | normal | tangential | bending | torsion |",
+                  "|---|---:|---:|---|---|---|---|"]
+        for (lead, omega), q in g.groupby(["lead", "omega"], sort=False):
+            cells = [_mean_se(q, (k,)) if len(q) > 1 else f"{q[f'{k}_ratio'].iloc[0]:.3f}"
+                     for k in KEYS]
+            lines.append(f"| {lead} | {omega:g} | {len(q)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def twist_main(args, cement, rigid, radius):
+    """``--twist``: the leads at a/R ``--alpha`` and the first ``--eps``, and ``--flat-leads``
+    on a nearly flat neck (``--flat-alpha``, the same eps): their continuum references
+    and rows, written to ``results/md_rotations_reference_twist.csv``."""
+    import pandas as pd
+
+    rows = []
+    cases = [(args.alpha, args.twist_omega, list(args.twist_leads))]
+    if args.flat_omega:
+        cases.append((args.flat_alpha, args.flat_omega, list(args.flat_leads)))
+    eps = args.eps[0]
+    for alpha, omegas, leads in cases:
+        part = [r for r in continuum_rows(alpha, eps, cement, radius, args.twist_levels)
+                if r["material"] == "cement"]
+        ref = part[-1]
+        part += twist_rows(alpha, eps, cement, radius, omegas, rigid, offsets(args.offsets),
+                           leads)
+        for r in part:
+            for key in KEYS:
+                r[f"{key}_ratio"] = r[key] / ref[key]
+        rows += part
+    df = pd.DataFrame(rows)
+    attrs = _common.environment_attrs(
+        benchmark=NAME + " --twist", cement=f"{args.cement} (Table II)",
+        grains="rigid: quartz x 1e4, held (lattice); bonded rigid spheres (continuum)",
+        ratios="each stiffness over the cement's continuum limit at its alpha and eps",
+        tie_stiffness=f"{TIE_STIFFNESS:g} G_c c_w^3 (drilling_tied, rotation_tied)",
+        **_common.md_source_attrs())
+    _common.write_csv(df, _common.result_path(NAME, "csv", "twist"), attrs)
+    print(twist_summary(df))
+
+
 # ----------------------------------------------------------------------------- runs
 def continuum_rows(alpha, eps, cement, radius, levels):
     """The continuum references' refinement sequences and their Richardson limits: the
@@ -655,11 +788,29 @@ def main(argv=None):
     ap.add_argument("--staircase-omega", type=float, nargs="*", default=[12, 16, 24],
                     help="staircase bodies, at the first --eps only")
     ap.add_argument("--subdivisions", type=int, nargs="+", default=[1, 2, 4])
+    ap.add_argument("--twist", action="store_true",
+                    help="the twist study instead: the leads of --twist-leads at "
+                         "--twist-omega (first --eps), and the default lattice on a nearly "
+                         "flat neck (--flat-alpha) at --flat-omega (--flat-leads), over "
+                         "--offsets offsets")
+    ap.add_argument("--twist-leads", nargs="+", choices=list(TWIST_LEADS),
+                    default=list(TWIST_LEADS))
+    ap.add_argument("--twist-omega", type=float, nargs="+", default=[8, 12, 16, 24])
+    ap.add_argument("--twist-levels", type=int, nargs="+", default=[4, 8, 16, 32],
+                    help="continuum elements per side for --twist")
+    ap.add_argument("--flat-alpha", type=float, default=0.1)
+    ap.add_argument("--flat-omega", type=float, nargs="*", default=[60, 90])
+    ap.add_argument("--flat-leads", nargs="+", choices=list(TWIST_LEADS),
+                    default=["default", "rim_shift_0.15", "rim_shift_0.3"])
     args = ap.parse_args(argv)
     src = _common.announce_source()
     cement = md.HARD_CEMENT if args.cement == "hard" else md.SOFT_CEMENT
     rigid = GrainMaterial(QUARTZ.shear_modulus * 1e4, QUARTZ.poisson_ratio, QUARTZ.density)
     radius = 1e-4
+    if args.twist:
+        twist_main(args, cement, rigid, radius)
+        print(f"\ncommit {src['git_commit'][:10]}")
+        return
     rows = []
     for i, eps in enumerate(args.eps):
         part = continuum_rows(args.alpha, eps, cement, radius, args.levels)

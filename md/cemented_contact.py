@@ -111,7 +111,8 @@ def _grain_cement(centre, cw, eps):
 
 def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0,
                    material: GrainMaterial = QUARTZ, cement: CementMaterial = HARD_CEMENT,
-                   interface="facet", rotations=False, lattice_offset=(0.0, 0.0, 0.0)):
+                   interface="facet", rotations=False, lattice_offset=(0.0, 0.0, 0.0),
+                   bond_column="half_cell", column_floor=0.1, rim_shift=0.0):
     r"""The linearised system of one cemented contact (module docstring): two grains (particles
     0 and 1, no Hertz contact between them) and the cement particles, on a lattice of width
     :math:`R/\Omega` whose cell faces lie on the contact plane and on two planes through the
@@ -119,17 +120,34 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     :func:`lattice_contact_stiffness`; returns an :class:`md.AcousticSystem` (no dashpots;
     with ``rotations`` the six degrees of freedom of :func:`md.acoustic_system`'s
     ``rotations=True``: bonds at their contact points, the
-    rotating lattice's constants)."""
+    rotating lattice's constants).
+
+    ``bond_column`` (a study option, ``benchmarks/md_rotations_reference.py --twist``): the
+    length of each grain–cement bond's cement column (``column`` of
+    :func:`md.interface.interface_stiffness`). ``"half_cell"`` (default) :math:`c_w/2` for
+    every bond; ``"volume"`` :math:`c_w^3/2A_i`, half a cell's volume spread over the bond's
+    interface area :math:`A_i` (:func:`md.interface.interface_area`; :math:`c_w/2` times
+    :math:`\max(\|\hat n\|_\infty, \|\hat n\|_1/2)`, the mean height of a cell centre
+    above an inclined surface along its normal, for a staircase of columns along the
+    dominant axis); ``"distance"`` the distance of the cell centre from the sphere,
+    :math:`h = |\mathbf x_c - \mathbf x_g| - R`, at least ``column_floor`` :math:`c_w`
+    (``column_floor`` in (0, 1]: a cell centre on the sphere would bond rigidly).
+    ``rim_shift`` (a study option, cells, in [0, 1); default 0): the cells cemented are those
+    whose centre lies within :math:`a + ` ``rim_shift`` :math:`c_w` of the axis (the
+    continuum's neck keeps its radius a)."""
     from .acoustic import (_LATTICE_LENGTH2, AcousticSystem, _lattice_springs, _lattice_table,
                            grain_cement_arms)
-    from .interface import interface_stiffness
+    from .interface import interface_area, interface_stiffness
     from .space import Box
 
     alpha, eps, R = _check_contact(radius_ratio, radius, thickness_ratio)
     if not resolution >= 2.0:
         raise ValueError(f"resolution must be >= 2 cells per radius; got {resolution}")
     off = _check_offset(lattice_offset)
-    centre, flat, shape = _cemented_cells(alpha, float(resolution), eps, off)
+    if not 0.0 <= rim_shift < 1.0:
+        raise ValueError(f"rim_shift must lie in [0, 1) cell widths; got {rim_shift}")
+    centre, flat, shape = _cemented_cells(alpha + rim_shift / float(resolution),
+                                          float(resolution), eps, off)
     if centre.shape[0] == 0:
         raise ValueError(f"no cell of width R/{resolution:g} lies in the cement (a/R = {alpha:g}, "
                          f"thickness {eps:g}): raise the resolution")
@@ -139,11 +157,23 @@ def contact_system(radius_ratio, resolution, *, radius=1e-4, thickness_ratio=0.0
     where[flat] = np.arange(n_c, dtype=np.int32)
     table, _ = _lattice_table(flat.astype(np.int64), where, shape, 2)
     grain, cell, normal = _grain_cement(centre, 1.0 / resolution, eps)
+    grains = np.array([[0.0, 0.0, -(1.0 + eps)], [0.0, 0.0, 1.0 + eps]]) * R
+    if bond_column == "half_cell":
+        column = None
+    elif bond_column == "volume":
+        column = 0.5 * cw**3 / interface_area(normal, cw)
+    elif bond_column == "distance":
+        if not 0.0 < column_floor <= 1.0:
+            raise ValueError(f"column_floor must lie in (0, 1] cell widths; got {column_floor}")
+        h = np.linalg.norm(centre[cell] * R - grains[grain], axis=1) - R
+        column = np.maximum(h, column_floor * cw)
+    else:
+        raise ValueError(f"bond_column must be 'half_cell', 'volume' or 'distance'; got "
+                         f"{bond_column!r}")
     # Each grain's cells face the other grain: "facet" and "patch" are the same here.
     kn, kt = interface_stiffness(grain, cell, normal, np.full(2, R), table, 2, cw, material,
-                                 cement, interface, 1 - grain)
+                                 cement, interface, 1 - grain, column=column)
     _, _, m_c, lat_kn, lat_kt = _lattice_springs(cement, cw, "waves", rotations)
-    grains = np.array([[0.0, 0.0, -(1.0 + eps)], [0.0, 0.0, 1.0 + eps]]) * R
     m_grain = material.density * 4.0 / 3.0 * np.pi * R**3
     zero = np.zeros(grain.size)
     side = shape[0] * cw
@@ -212,11 +242,13 @@ def lattice_contact_stiffness(radius_ratio, resolution, *, radius=1e-4, thicknes
     return ContactStiffness(*_grain_reactions(system, (2, 0)))
 
 
-def _grain_reactions(system, components):
+def _grain_reactions(system, components, extra=None):
     """Reaction on grain 1 of :func:`contact_system`'s ``system`` along each of its degrees of
     freedom ``components`` (0-2 translations; 3-5 rotations about its centre, with rotations)
     when that one is moved by 1 (m or rad), grain 0 and grain 1's other degrees of freedom
-    held and the cement relaxed: the diagonal of the bond's stiffness (N/m, N m/rad)."""
+    held and the cement relaxed: the diagonal of the bond's stiffness (N/m, N m/rad).
+    ``extra`` (a sparse matrix of K's shape, optional) is added to the system's stiffness
+    matrix (study springs, ``benchmarks/md_rotations_reference.py --twist``)."""
     from .static import _load_path, _lu_preconditioner, _pcg
 
     n, dof = system.n_particles, system.dof
@@ -228,6 +260,11 @@ def _grain_reactions(system, components):
     free = np.repeat((_load_path(system, flag) & (flag == 0))[:, None], dof, axis=1)
     free_idx = np.flatnonzero(free)
     K = system.stiffness_matrix().tocsr()
+    if extra is not None:
+        if extra.shape != K.shape:
+            raise ValueError(f"extra must have the stiffness matrix's shape {K.shape}; got "
+                             f"{extra.shape}")
+        K = (K + extra).tocsr()
     Kff = K[free_idx][:, free_idx]
     # K_ff is singular with rotations (a cell bonded at two points turns about the line through
     # them): the factor of md.static pins those mechanisms, which carry no load.

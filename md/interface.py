@@ -432,7 +432,8 @@ def _facet_contact_radius(label, n_patches, patch_grain, bond_partner, pairs, ra
 
 def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first, cell_width,
                         material, cement, interface="patch", bond_partner=None,
-                        paper_normal_factor=2.0, contact_pairs=None, contact_radius=None):
+                        paper_normal_factor=2.0, contact_pairs=None, contact_radius=None,
+                        column=None):
     """Normal and tangential stiffness of the grain–cement bonds.
 
     Parameters
@@ -470,6 +471,11 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
         :data:`MIN_ANNULUS` :math:`a_p`. Without it the two punches are counted in parallel on
         the same surface, and a fully cemented sample is stiffer than the Hashin–Shtrikman
         upper bound of its grains and cement.
+    column : ndarray, shape (m,), optional
+        ``"patch"`` and ``"facet"`` only: the length of each bond's cement column, m,
+        ``> 0``; default :math:`c_w/2` for every bond (the column of half a cell). The
+        cement's part of the bond is :math:`M_cA_i/L` and :math:`G_cA_i/L` with this
+        :math:`L` (a layer of thickness L bonded over the area :math:`A_i`).
 
     Returns
     -------
@@ -505,7 +511,13 @@ def interface_stiffness(bond_grain, bond_cell, bond_normal, radii, table, first,
     share = area / patch_area[label]
     k_grain_n = 2.0 * a_p[label] * material.young_modulus / (1.0 - nu_g**2) * share
     k_grain_t = 8.0 * material.shear_modulus * a_p[label] / (2.0 - nu_g) * share
-    k_cement_n = cement.p_modulus * area / (0.5 * cw)
-    k_cement_t = cement.shear_modulus * area / (0.5 * cw)
+    if column is None:
+        length = np.full(m, 0.5 * cw)
+    else:
+        length = np.asarray(column, dtype=float)
+        if length.shape != (m,) or not np.all(np.isfinite(length) & (length > 0)):
+            raise ValueError(f"column must be {m} finite lengths > 0 m, one per bond")
+    k_cement_n = cement.p_modulus * area / length
+    k_cement_t = cement.shear_modulus * area / length
     return (1.0 / (1.0 / k_grain_n + 1.0 / k_cement_n),
             1.0 / (1.0 / k_grain_t + 1.0 / k_cement_t))

@@ -203,3 +203,117 @@ def test_rotating_lattice_bends_and_twists_as_the_continuum(ref):
                             rotations=True)
     k = np.array(_grain_reactions(system, (4, 5))) / cont
     assert abs(k[0] - 1) < 0.02 and abs(k[1] - 1) < 0.05, k
+
+
+def test_interface_column_length_is_a_layer_in_series():
+    """md.interface.interface_stiffness's ``column``: the cement's part of a bond is a layer of
+    thickness L over the area A_i (M_c A_i/L, G_c A_i/L) in series with the grain's part, so
+    1/k(L) - 1/k(c_w/2) = (L - c_w/2)/(M_c A_i) normal, /(G_c A_i) tangential, with A_i by
+    hand: c_w^2 for a normal along z, c_w^2/0.8 for (0.6, 0, 0.8) (max(0.8, 0.7) = 0.8). No
+    column is the half cell; bad lengths are refused by name."""
+    from md.interface import interface_stiffness
+
+    cw = 1e-5
+    normal = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
+    grain, cell = np.array([0, 0]), np.array([0, 1])
+    table = np.full((2, 9), -1, np.int32)
+    table[0, 0] = 3                         # the two cells are neighbours: one patch
+    args = (grain, cell, normal, np.array([1e-4]), table, 2, cw, QUARTZ, HARD_CEMENT, "patch")
+    kn0, kt0 = interface_stiffness(*args)
+    kn1, kt1 = interface_stiffness(*args, column=np.full(2, 0.5 * cw))
+    np.testing.assert_array_equal(kn0, kn1)
+    np.testing.assert_array_equal(kt0, kt1)
+    L = np.array([0.2 * cw, 0.9 * cw])
+    kn, kt = interface_stiffness(*args, column=L)
+    area = np.array([cw**2, cw**2 / 0.8])
+    np.testing.assert_allclose(1 / kn - 1 / kn0, (L - 0.5 * cw) / (M_C * area), rtol=1e-9)
+    np.testing.assert_allclose(1 / kt - 1 / kt0, (L - 0.5 * cw) / (G_C * area), rtol=1e-9)
+    for bad in (np.zeros(2), np.full(3, cw), np.array([cw, np.nan])):
+        with pytest.raises(ValueError, match="column"):
+            interface_stiffness(*args, column=bad)
+
+
+def test_contact_bond_columns_are_the_cell_heights():
+    """contact_system's ``bond_column``: "distance" makes each bond's column the distance of
+    its cell centre from the sphere, |x_c - x_g| - R (at least column_floor c_w), "volume" half
+    a cell's volume over A_i, computed here from the positions; the lattice is the same, and
+    the default is "half_cell" to the bit. Unknown names and floors outside (0, 1] are
+    refused by name."""
+    from md.cemented_contact import contact_system
+    from md.interface import interface_area
+
+    base = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rotations=True)
+    cw = base.metadata["cell_width"]
+    g, c = base.bond_i, base.bond_j
+    h = np.linalg.norm(base.positions[c] - base.positions[g], axis=1) - R
+    assert np.all(h > 0) and h.min() < 0.1 * cw      # the floor is reached by some cell
+    area = interface_area(base.bond_normal, cw)
+    half = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rotations=True,
+                          bond_column="half_cell")
+    np.testing.assert_array_equal(half.bond_kt, base.bond_kt)
+    for option, L in ((dict(bond_column="distance", column_floor=0.1),
+                       np.maximum(h, 0.1 * cw)),
+                      (dict(bond_column="volume"), 0.5 * cw**3 / area)):
+        s = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rotations=True, **option)
+        np.testing.assert_array_equal(s.lattice_kn, base.lattice_kn)
+        np.testing.assert_allclose(1 / s.bond_kn - 1 / base.bond_kn,
+                                   (L - 0.5 * cw) / (M_C * area), rtol=1e-8, atol=1e-20)
+        np.testing.assert_allclose(1 / s.bond_kt - 1 / base.bond_kt,
+                                   (L - 0.5 * cw) / (G_C * area), rtol=1e-8, atol=1e-20)
+    with pytest.raises(ValueError, match="bond_column"):
+        contact_system(0.5, 8, bond_column="distnce")
+    for floor in (0.0, 1.5):
+        with pytest.raises(ValueError, match="column_floor"):
+            contact_system(0.5, 8, bond_column="distance", column_floor=floor)
+
+
+def test_rotation_ties_cost_only_the_relative_turn(ref):
+    """The study springs of --twist: a common rotation of a grain and its cells costs nothing;
+    a cell turned by t about an axis s relative to its grain costs k t^2 |P s|^2 / 2, with
+    P = I ("all") or n n^T ("drilling": only the turn about the bond normal)."""
+    from md.cemented_contact import contact_system
+
+    system = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rotations=True)
+    k = 2.0
+    n, dof = system.n_particles, system.dof
+    b = 5                                   # one bond: grain g, cell c, normal nb
+    g, c, nb = system.bond_i[b], system.bond_j[b], system.bond_normal[b]
+    cells_of_g = system.bond_j[system.bond_i == g]
+    perp = np.cross(nb, [1.0, 0.0, 0.0])
+    perp /= np.linalg.norm(perp)
+    for which in ("all", "drilling"):
+        T = ref.rotation_ties(system, which, k)
+        u = np.zeros((n, dof))
+        u[[g, *cells_of_g], 3:] = [0.3, -0.2, 0.5]
+        assert abs(u.ravel() @ T @ u.ravel()) < 1e-12
+        for axis, drilling_cost in ((nb, 1.0), (perp, 0.0)):
+            u = np.zeros((n, dof))
+            u[c, 3:] = 0.7 * axis
+            # the cell's other bonds (to the same or the other grain) count too
+            bonds = np.flatnonzero(system.bond_j == c)
+            nn = system.bond_normal[bonds] @ axis
+            want = 0.5 * k * 0.49 * (bonds.size if which == "all" else np.sum(nn**2))
+            assert u.ravel() @ T @ u.ravel() / 2 == pytest.approx(want, rel=1e-12)
+            if which == "drilling" and bonds.size == 1:
+                assert want == pytest.approx(0.5 * k * 0.49 * drilling_cost)
+
+
+def test_rim_shift_widens_the_cemented_cells():
+    """contact_system's ``rim_shift`` s: the cement cells are those whose centre lies within
+    a + s c_w of the axis (and outside both spheres, checked here from the positions); s = 0
+    is the default to the bit; shifts outside [0, 1) cells are refused by name."""
+    from md.cemented_contact import contact_system
+
+    base = contact_system(0.5, 8, radius=R, thickness_ratio=0.05)
+    wide = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rim_shift=0.5)
+    cw = base.metadata["cell_width"]
+    for system, limit in ((base, 0.5 * R), (wide, 0.5 * R + 0.5 * cw)):
+        rho = np.hypot(*system.positions[2:, :2].T)
+        assert rho.max() <= limit
+    rho_w = np.hypot(*wide.positions[2:, :2].T)
+    assert np.any((rho_w > 0.5 * R) & (rho_w <= 0.5 * R + 0.5 * cw))
+    zero = contact_system(0.5, 8, radius=R, thickness_ratio=0.05, rim_shift=0.0)
+    np.testing.assert_array_equal(zero.positions, base.positions)
+    for bad in (-0.1, 1.0):
+        with pytest.raises(ValueError, match="rim_shift"):
+            contact_system(0.5, 8, rim_shift=bad)
