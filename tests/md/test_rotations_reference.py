@@ -5,6 +5,7 @@ with and without rotations, against that reference (docs/studies/md_rotations_re
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 from pathlib import Path
 
@@ -23,9 +24,17 @@ R = 1e-4
 
 @pytest.fixture(scope="module")
 def ref():
+    """The benchmark module. Its ``_common`` pins the thread variables to 1 on import (for a
+    benchmark process); here they are put back at once, since numba refuses a thread count
+    that changes after its pool has started (later tests in the session would fail)."""
     if str(BENCH) not in sys.path:
         sys.path.insert(0, str(BENCH))
-    return importlib.import_module("md_rotations_reference")
+    saved = dict(os.environ)
+    try:
+        return importlib.import_module("md_rotations_reference")
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
 
 
 def test_confined_layer_between_rigid_plates_is_the_closed_form(ref):
